@@ -1,0 +1,100 @@
+"""`regenerate-equations`: derive every case, write generated/ and docs/derivations.tex (+ PDF)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from derive.cases import ALL_CASES
+from derive.generate import ROOT, generate, render_init
+
+GENERATED_MARK = "DO NOT EDIT"
+
+
+def _parse_cases(text: str | None) -> list[str]:
+    if not text:
+        return list(ALL_CASES)
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    unknown = [n for n in names if n not in ALL_CASES]
+    if unknown:
+        raise SystemExit(
+            f"regenerate-equations: unknown case(s) {', '.join(unknown)}; "
+            f"valid cases: {', '.join(ALL_CASES)}"
+        )
+    return names
+
+
+def _planned_files(args, names: list[str]) -> dict[Path, str]:
+    from derive.document import render
+
+    results = generate(names)
+    code_dir, docs_dir = Path(args.code_dir), Path(args.docs_dir)
+    files = {code_dir / f"{name}.py": r.source for name, r in results.items()}
+    present = {p.stem for p in code_dir.glob("*.py") if p.stem in ALL_CASES}
+    cases_listed = sorted(set(names) | (present if len(names) < len(ALL_CASES) else set()))
+    files[code_dir / "__init__.py"] = render_init(cases_listed)
+    files[docs_dir / "derivations.tex"] = render(results)
+    failed = [p.statement for r in results.values() for p in r.proofs if not p.holds]
+    if failed:
+        raise SystemExit("regenerate-equations: proofs fail:\n  " + "\n  ".join(failed))
+    return files
+
+
+def _check(files: dict[Path, str]) -> int:
+    stale = [p for p, text in files.items() if not p.exists() or p.read_text() != text]
+    if stale:
+        print("stale (run regenerate-equations):", file=sys.stderr)
+        for p in stale:
+            print(f"  {p}", file=sys.stderr)
+        return 1
+    print(f"up to date: {len(files)} files")
+    return 0
+
+
+def _write(files: dict[Path, str], force: bool) -> None:
+    for path in files:
+        if path.exists() and GENERATED_MARK not in path.read_text()[:400] and not force:
+            raise SystemExit(
+                f"regenerate-equations: {path} exists and was not written by this tool "
+                "(no 'DO NOT EDIT' header); refusing to overwrite it without --force"
+            )
+    for path, text in files.items():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if not path.exists() or path.read_text() != text:
+            path.write_text(text)
+            print(f"wrote {path}")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="regenerate-equations", description=__doc__)
+    parser.add_argument("--check", action="store_true", help="exit 1 if any output is stale")
+    parser.add_argument(
+        "--cases", help="comma-separated cases (default: all): " + ", ".join(ALL_CASES)
+    )
+    parser.add_argument("--code-dir", default=str(ROOT / "generated"), help="kernel output folder")
+    parser.add_argument("--docs-dir", default=str(ROOT / "docs"), help="document output folder")
+    parser.add_argument("--no-pdf", action="store_true", help="write the .tex but skip pdflatex")
+    parser.add_argument(
+        "--force", action="store_true", help="overwrite files this tool did not write"
+    )
+    args = parser.parse_args(argv)
+    start = time.perf_counter()
+    files = _planned_files(args, _parse_cases(args.cases))
+    if args.check:
+        return _check(files)
+    _write(files, args.force)
+    print(f"derived and generated in {time.perf_counter() - start:.1f} s")
+    if not args.no_pdf:
+        from derive.document import build_pdf
+
+        pdf = build_pdf(Path(args.docs_dir) / "derivations.tex")
+        print(
+            f"wrote {pdf}" if pdf else "pdflatex not found: PDF skipped (`make docs` installs it)"
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,99 @@
+"""The derivations as a LaTeX document (templates/derivations.tex.j2) and its PDF."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+import sympy as sp
+
+from derive.derivation import ACCELERATION
+from derive.emit import environment
+from derive.generate import CaseResult
+from derive.osculating import check as osculating_check
+
+_NAMES = {
+    "sg2": r"\sigma",
+    "v_len": r"|v|",
+    "dx": r"\Delta x",
+    "dy": r"\Delta y",
+    "th1": r"\theta_1",
+    "th2": r"\theta_2",
+    "w1": r"\omega_1",
+    "w2": r"\omega_2",
+    "al1": r"\alpha_1",
+    "al2": r"\alpha_2",
+}
+for _stem in ("n", "v"):
+    for _c in ("x", "y"):
+        _NAMES[f"{_stem}_{_c}"] = f"{_stem}_{_c}"
+        _NAMES[f"{_stem}_{_c}_t"] = rf"\dot {_stem}_{_c}"
+        _NAMES[f"{_stem}_{_c}_tt"] = rf"\ddot {_stem}_{_c}"
+
+
+for _i in ("1", "2"):
+    _NAMES.update({f"ax{_i}": f"a_{{x{_i}}}", f"ay{_i}": f"a_{{y{_i}}}", f"vx{_i}": f"v_{{x{_i}}}"})
+    _NAMES[f"vy{_i}"] = f"v_{{y{_i}}}"
+
+
+def latex(expr: sp.Expr, terms_per_line: int = 4) -> str:
+    """LaTeX of `expr`; a long sum is broken over aligned lines so it fits the page."""
+    names = {s: _NAMES.get(str(s), sp.latex(s)) for s in expr.free_symbols}
+    terms = expr.as_ordered_terms() if isinstance(expr, sp.Add) else [expr]
+    lines = []
+    for k in range(0, len(terms), terms_per_line):
+        text = sp.latex(sp.Add(*terms[k : k + terms_per_line], evaluate=False), symbol_names=names)
+        lines.append(text if k == 0 or text.startswith("-") else "+ " + text)
+    return r" \\ &\quad ".join(lines)
+
+
+def _case_context(result: CaseResult) -> dict:
+    d = result.derivatives
+    case = d.case
+    return {
+        "case": case,
+        "intermediates": [(latex(s), latex(v)) for s, v in d.intermediates],
+        "gap": latex(d.gap),
+        "gap_velocity": latex(d.gap_velocity),
+        "gap_acceleration": latex(d.gap_acceleration),
+        "jacobian": [
+            (latex(a), latex(j, 2)) for a, j in zip(ACCELERATION, d.jacobian, strict=True)
+        ],
+        "proofs": result.proofs,
+    }
+
+
+def render(results: dict[str, CaseResult]) -> str:
+    osc = [osculating_check(), osculating_check(a=3.0, b=0.5, phi=2.0)]
+    return (
+        environment()
+        .get_template("derivations.tex.j2")
+        .render(cases=[_case_context(r) for r in results.values()], osculating=osc)
+    )
+
+
+def build_pdf(tex_path: Path) -> Path | None:
+    """pdflatex twice in a scratch folder; returns the PDF path, or None when pdflatex is absent."""
+    pdflatex = shutil.which("pdflatex")
+    if pdflatex is None:
+        return None
+    env = {**os.environ, "SOURCE_DATE_EPOCH": "0", "FORCE_SOURCE_DATE": "1"}
+    with tempfile.TemporaryDirectory() as scratch:
+        for _ in range(2):
+            done = subprocess.run(
+                [pdflatex, "-interaction=nonstopmode", "-halt-on-error", str(tex_path.resolve())],
+                cwd=scratch,
+                env=env,
+                capture_output=True,
+                text=True,
+                check=False,
+            )
+            if done.returncode != 0:
+                log = done.stdout[-3000:]
+                raise RuntimeError(f"pdflatex failed on {tex_path}:\n{log}")
+        pdf = tex_path.with_suffix(".pdf")
+        shutil.copyfile(Path(scratch) / pdf.name, pdf)
+    return pdf

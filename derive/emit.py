@@ -1,0 +1,116 @@
+"""Turn kernel specs into NumPy source through the Jinja2 templates in templates/.
+
+Common subexpressions are eliminated per function with sympy.cse; named intermediates (the world
+vectors of the derivation) keep their names so the code reads like the derivation. Output is passed
+through `ruff format` so it is byte-identical from run to run (the stale check relies on it).
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import jinja2
+import sympy as sp
+from sympy.printing.numpy import NumPyPrinter
+from sympy.printing.precedence import PRECEDENCE
+
+from derive.kernels import KernelSpec
+
+TEMPLATES = Path(__file__).resolve().parent.parent / "templates"
+
+
+class KernelPrinter(NumPyPrinter):
+    """NumPy printer that writes x**-k as 1/x**k (a reciprocal, not a pow call) and uses `np.`."""
+
+    def __init__(self) -> None:
+        super().__init__({"fully_qualified_modules": True, "allow_unknown_functions": False})
+
+    def _print_Pow(self, expr, rational=False):
+        base, exp = expr.as_base_exp()
+        if exp.is_Integer and exp < 0:
+            denominator = base if exp == -1 else sp.Pow(base, -exp, evaluate=False)
+            return f"1 / {self.parenthesize(denominator, PRECEDENCE['Mul'])}"
+        if exp == sp.Rational(1, 2):
+            return f"{self._module_format('numpy.sqrt')}({self._print(base)})"
+        return super()._print_Pow(expr, rational=rational)
+
+    def _module_format(self, fqn, register=True):
+        return "np." + fqn.split(".", 1)[1] if fqn.startswith("numpy.") else fqn
+
+
+@dataclass(frozen=True)
+class EmittedFunction:
+    name: str
+    summary: str
+    formula: str
+    arguments: tuple[str, ...]
+    assignments: tuple[tuple[str, str], ...]
+    returns: str
+    output_names: tuple[str, ...]
+
+
+def _function_body(spec: KernelSpec, args: tuple[sp.Symbol, ...]):
+    named = spec.needed_intermediates()
+    exprs = [v for _, v in named] + list(spec.outputs)
+    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("e"), order="canonical")
+    pending = list(temps) + [(s, reduced[i]) for i, (s, _) in enumerate(named)]
+    outputs = reduced[len(named) :]
+    defined, lines = set(args), []
+    while pending:  # emit in an order where every name is defined before use
+        for item in pending:
+            if item[1].free_symbols <= defined:
+                lines.append(item)
+                defined.add(item[0])
+                pending.remove(item)
+                break
+        else:
+            raise RuntimeError(f"{spec.name}: circular intermediates {pending}")
+    return lines, outputs
+
+
+def emit_function(spec: KernelSpec, geometry: tuple[sp.Symbol, ...]) -> EmittedFunction:
+    printer = KernelPrinter()
+    args = spec.arguments(geometry)
+    lines, outputs = _function_body(spec, args)
+    ret = ", ".join(printer.doprint(o) for o in outputs)
+    return EmittedFunction(
+        name=spec.name,
+        summary=spec.summary,
+        formula=spec.formula,
+        arguments=tuple(str(a) for a in args),
+        assignments=tuple((str(s), printer.doprint(v)) for s, v in lines),
+        returns=ret,
+        output_names=spec.output_names,
+    )
+
+
+def environment() -> jinja2.Environment:
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(TEMPLATES),
+        undefined=jinja2.StrictUndefined,
+        keep_trailing_newline=True,
+        trim_blocks=True,
+        lstrip_blocks=True,
+    )
+
+
+def format_python(source: str) -> str:
+    """ruff format, so generated code is stable and readable."""
+    beside_python = Path(sys.executable).parent / "ruff"
+    ruff = str(beside_python) if beside_python.exists() else shutil.which("ruff")
+    if ruff is None:
+        raise RuntimeError("ruff is needed to format generated code: pip install ruff")
+    done = subprocess.run(
+        [ruff, "format", "--line-length", "100", "-"],
+        input=source,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    if done.returncode != 0:
+        raise RuntimeError(f"ruff format failed on generated code:\n{done.stderr}")
+    return done.stdout

@@ -1,0 +1,51 @@
+"""Render every requested case to generated/<case>.py and the derivations to docs/derivations.tex."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from derive.cases import ALL_CASES
+from derive.derivation import Derivatives, derive
+from derive.emit import emit_function, environment, format_python
+from derive.kernels import kernel_specs
+from derive.proofs import Proof, proofs_for
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@dataclass(frozen=True)
+class CaseResult:
+    derivatives: Derivatives
+    source: str
+    proofs: list[Proof]
+    seconds: float
+
+
+def generate_case(name: str) -> CaseResult:
+    start = time.perf_counter()
+    case = ALL_CASES[name]()
+    d = derive(case)
+    functions = [emit_function(spec, case.geometry) for spec in kernel_specs(d)]
+    source = (
+        environment().get_template("kernel_module.py.j2").render(case=case, functions=functions)
+    )
+    proofs = proofs_for(d)
+    return CaseResult(d, format_python(source), proofs, time.perf_counter() - start)
+
+
+def render_init(cases: list[str]) -> str:
+    text = environment().get_template("generated_init.py.j2").render(cases=sorted(cases))
+    return format_python(text)
+
+
+def generate(names: list[str], report: Callable[[str], None] = print) -> dict[str, CaseResult]:
+    results = {}
+    for name in names:
+        results[name] = r = generate_case(name)
+        failed = [p.statement for p in r.proofs if not p.holds]
+        status = "all proofs hold" if not failed else f"{len(failed)} PROOF(S) FAIL"
+        report(f"{name:14s} {r.seconds:6.2f} s  {len(r.source.splitlines()):4d} lines  {status}")
+    return results

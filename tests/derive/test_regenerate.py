@@ -1,0 +1,84 @@
+"""generated/ and docs/derivations.tex are what regenerate-equations produces now (stale check),
+the output is deterministic, and the CLI refuses bad input clearly."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from derive import cli
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_committed_outputs_are_up_to_date(capsys):
+    assert cli.main(["--check"]) == 0, capsys.readouterr().err
+
+
+def test_check_names_a_modified_generated_file(tmp_path, capsys):
+    code, docs = tmp_path / "generated", tmp_path / "docs"
+    args = ["--cases", "vertex_edge", "--code-dir", str(code), "--docs-dir", str(docs)]
+    assert cli.main([*args, "--no-pdf"]) == 0
+    assert cli.main([*args, "--check"]) == 0
+    target = code / "vertex_edge.py"
+    target.write_text(target.read_text().replace("n_x = ", "n_x = 1.0 + ", 1))
+    capsys.readouterr()
+    assert cli.main([*args, "--check"]) == 1
+    assert "vertex_edge.py" in capsys.readouterr().err
+
+
+def test_output_is_deterministic_across_hash_seeds(tmp_path):
+    """Two runs with different PYTHONHASHSEED write byte-identical kernels."""
+    outputs = []
+    for seed in ("1", "2"):
+        out = tmp_path / seed
+        subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "derive.cli",
+                "--cases",
+                "circle_circle",
+                "--no-pdf",
+                "--code-dir",
+                str(out / "generated"),
+                "--docs-dir",
+                str(out / "docs"),
+            ],
+            check=True,
+            cwd=ROOT,
+            env={"PYTHONHASHSEED": seed, "PATH": str(Path(sys.executable).parent)},
+            capture_output=True,
+        )
+        outputs.append((out / "generated" / "circle_circle.py").read_bytes())
+    assert outputs[0] == outputs[1]
+
+
+def test_unknown_case_is_named():
+    with pytest.raises(SystemExit, match="unknown case.*banana.*valid cases: vertex_edge"):
+        cli.main(["--cases", "vertex_edge,banana", "--check"])
+
+
+def test_refuses_to_overwrite_a_file_it_did_not_write(tmp_path):
+    code = tmp_path / "generated"
+    code.mkdir()
+    (code / "vertex_edge.py").write_text("# my own notes\n")
+    args = ["--cases", "vertex_edge", "--code-dir", str(code), "--docs-dir", str(tmp_path)]
+    with pytest.raises(SystemExit, match="refusing to overwrite"):
+        cli.main([*args, "--no-pdf"])
+    assert (code / "vertex_edge.py").read_text() == "# my own notes\n"
+
+
+def test_generated_modules_list_only_requested_cases(tmp_path):
+    code = tmp_path / "generated"
+    args = ["--cases", "circle_edge,circle_circle", "--code-dir", str(code)]
+    assert cli.main([*args, "--docs-dir", str(tmp_path), "--no-pdf"]) == 0
+    assert sorted(p.name for p in code.glob("*.py")) == [
+        "__init__.py",
+        "circle_circle.py",
+        "circle_edge.py",
+    ]
+    namespace: dict = {}
+    exec((code / "__init__.py").read_text(), namespace)
+    assert namespace["CASES"] == ("circle_circle", "circle_edge")

@@ -60,8 +60,10 @@ class ContactDynamics:
         self.stabilisation = stabilisation
         self.solver = solver
 
-    def rows(self, contacts: Sequence, poses: np.ndarray, velocities: np.ndarray) -> ContactRows:
-        return evaluate(contacts, self.modules, poses, velocities, self.fixed)
+    def rows(
+        self, contacts: Sequence, poses: np.ndarray, velocities: np.ndarray, with_gaps: bool = True
+    ) -> ContactRows:
+        return evaluate(contacts, self.modules, poses, velocities, self.fixed, with_gaps)
 
     def effective_mass_matrix(self, rows: ContactRows) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(A, J, J M^-1) for the rows, with A = J M^-1 J^T ((m, m), symmetric PSD)."""
@@ -75,7 +77,7 @@ class ContactDynamics:
         """Accelerations with the contact forces of `contacts` (the resting set)."""
         if not contacts:
             return ContactSolution(self.free_acceleration.copy(), np.zeros(0), None, np.zeros(0))
-        rows = self.rows(contacts, poses, velocities)
+        rows = self.rows(contacts, poses, velocities, with_gaps=self.stabilisation is not None)
         a_matrix, jac, jm = self.effective_mass_matrix(rows)
         b = jac @ self.free_acceleration.ravel() + rows.bias
         if self.stabilisation is not None:

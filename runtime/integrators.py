@@ -13,16 +13,18 @@ import numpy as np
 Rhs = Callable[[np.ndarray], np.ndarray]
 
 
-def euler(rhs: Rhs, y: np.ndarray, dt: float) -> np.ndarray:
-    return y + dt * rhs(y)
+def euler(rhs: Rhs, y: np.ndarray, dt: float, k1: np.ndarray | None = None) -> np.ndarray:
+    return y + dt * (rhs(y) if k1 is None else k1)
 
 
-def midpoint(rhs: Rhs, y: np.ndarray, dt: float) -> np.ndarray:
-    return y + dt * rhs(y + 0.5 * dt * rhs(y))
+def midpoint(rhs: Rhs, y: np.ndarray, dt: float, k1: np.ndarray | None = None) -> np.ndarray:
+    k1 = rhs(y) if k1 is None else k1
+    return y + dt * rhs(y + 0.5 * dt * k1)
 
 
-def rk4(rhs: Rhs, y: np.ndarray, dt: float) -> np.ndarray:
-    k1 = rhs(y)
+def rk4(rhs: Rhs, y: np.ndarray, dt: float, k1: np.ndarray | None = None) -> np.ndarray:
+    """Classic RK4; `k1` = rhs(y) when the caller has it already (saves one contact solve)."""
+    k1 = rhs(y) if k1 is None else k1
     k2 = rhs(y + 0.5 * dt * k1)
     k3 = rhs(y + 0.5 * dt * k2)
     k4 = rhs(y + dt * k3)

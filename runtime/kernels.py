@@ -66,8 +66,12 @@ def evaluate(
     poses: np.ndarray,
     velocities: np.ndarray,
     fixed: Sequence[bool],
+    with_gaps: bool = True,
 ) -> ContactRows:
-    """Evaluate every contact's kernels at the given state ((n, 3) poses and velocities)."""
+    """Evaluate every contact's kernels at the given state ((n, 3) poses and velocities).
+
+    with_gaps=False skips d and d' (zeros), for the integrator stages that need only J and bias.
+    """
     m = len(contacts)
     out = {k: np.zeros(m) for k in ("gap", "gap_velocity", "bias")}
     jac = np.zeros((m, 6))
@@ -90,8 +94,9 @@ def evaluate(
         for key in contacts[members[0]].geometry:
             values[key] = np.array([contacts[k].geometry[key] for k in members])
         suffix = "_static2" if static2 else ""
-        out["gap"][idx] = _call(module, "gap", values)
-        out["gap_velocity"][idx] = _call(module, "gap_velocity" + suffix, values)
+        if with_gaps:
+            out["gap"][idx] = _call(module, "gap", values)
+            out["gap_velocity"][idx] = _call(module, "gap_velocity" + suffix, values)
         out["bias"][idx] = _call(module, "bias" + suffix, values)
         rows = _call(module, "jacobian" + suffix, values)
         jac[idx, : len(rows)] = np.column_stack([np.broadcast_to(r, idx.shape) for r in rows])

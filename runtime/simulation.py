@@ -150,7 +150,8 @@ class Simulator:
         y = np.concatenate([poses.ravel(), velocities.ravel()])
         rhs = self._rhs(resting)
         if self.method in FIXED_STEP:
-            y = FIXED_STEP[self.method](rhs, y, dt)
+            k1 = np.concatenate([velocities.ravel(), solution.accelerations.ravel()])
+            y = FIXED_STEP[self.method](rhs, y, dt, k1)
         else:
             from scipy.integrate import solve_ivp  # imported on use: it costs ~1 s to import
 

@@ -1,0 +1,146 @@
+"""Deep overlaps at t = 0, which the contact finder does not report.
+
+The narrow phase (runtime/narrowphase.py) keeps a penetrating contact only if it is plausible
+for a simulation step, e.g. no deeper than half the thinner body, so a disc placed with its
+centre on a floor, or inside another body, yields no contact at all.  A scene file with such a
+mistake must still be refused, so this module samples each body's boundary (corners, points
+along every edge, and the centroid) and asks whether a sample lies inside the material of
+another body: inside a closed shape (exact winding number over segments and arcs), or behind
+a fixed wall, bowl or box while the body also reaches in front of it (a body entirely behind a
+one-sided wall is not in contact with it).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from runtime.contacts import candidate_pairs
+from runtime.shapes import TAU, Arc, Ellipse, Segment
+
+__all__ = ["deepest_overlap"]
+
+SAMPLES_PER_EDGE = 24
+
+
+def _world(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return points @ np.array([[c, s], [-s, c]]) + pose[:2]
+
+
+def _local(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return (points - pose[:2]) @ np.array([[c, -s], [s, c]])
+
+
+def samples(shape: Any) -> np.ndarray:
+    """Points of the shape (body coordinates): corners, points along the edges, centroid."""
+    pts = [np.asarray(v, dtype=float) for v in shape.vertices]
+    t = np.linspace(0.0, 1.0, SAMPLES_PER_EDGE)
+    for e in shape.edges:
+        if isinstance(e, Segment):
+            a, b = np.asarray(e.start), np.asarray(e.end)
+            pts.extend(a + np.outer(t, b - a))
+        elif isinstance(e, Arc):
+            pts.extend(np.array(e.point(a)) for a in e.start_angle + t * e.span)
+        else:
+            pts.extend(np.array(e.point(a)) for a in np.linspace(0, TAU, 4 * SAMPLES_PER_EDGE))
+    if shape.closed:
+        pts.append(np.asarray(shape.centroid, dtype=float))
+    return np.array(pts, dtype=float).reshape(-1, 2)
+
+
+def _winding(shape: Any, p: np.ndarray) -> np.ndarray:
+    """Winding number of a closed boundary around the points ``p`` (exact for arcs)."""
+    total = np.zeros(len(p))
+    for e in shape.edges:
+        if isinstance(e, Ellipse):
+            q = _local(p, np.array([*e.centre, e.angle]))
+            return ((q[:, 0] / e.a) ** 2 + (q[:, 1] / e.b) ** 2 < 1.0).astype(float)
+        if isinstance(e, Segment):
+            a, b = np.asarray(e.start) - p, np.asarray(e.end) - p
+            total += np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.einsum("ij,ij->i", a, b))
+            continue
+        a, b = np.asarray(e.first) - p, np.asarray(e.last) - p
+        swept = np.arctan2(b[:, 1], b[:, 0]) - np.arctan2(a[:, 1], a[:, 0])
+        inside_circle = np.hypot(*(p - np.asarray(e.centre)).T) < abs(e.radius)
+        if e.convex:  # counter-clockwise: from inside the circle the angle only increases
+            turn = np.where(inside_circle, np.mod(swept, TAU), _wrap(swept))
+            total += np.where(inside_circle & e.full, TAU, turn)
+        else:
+            total += np.where(inside_circle, -np.mod(-swept, TAU), _wrap(swept))
+    return np.rint(total / TAU)
+
+
+def _wrap(angle: np.ndarray) -> np.ndarray:
+    return (angle + math.pi) % TAU - math.pi
+
+
+def _edge_distance(e: Any, p: np.ndarray) -> np.ndarray:
+    if isinstance(e, Segment):
+        a, b = np.asarray(e.start), np.asarray(e.end)
+        t = np.clip((p - a) @ (b - a) / float((b - a) @ (b - a)), 0.0, 1.0)
+        return np.hypot(*(p - a - np.outer(t, b - a)).T)
+    if isinstance(e, Ellipse):
+        ring = np.array([e.point(t) for t in np.linspace(0, TAU, 1024, endpoint=False)])
+        return np.min(np.hypot(*(p[:, None, :] - ring[None]).transpose(2, 0, 1)), axis=1)
+    v = p - np.asarray(e.centre)
+    on_span = np.array([e.contains_angle(a) for a in np.arctan2(v[:, 1], v[:, 0])], dtype=bool)
+    ends = [np.hypot(*(p - np.asarray(q)).T) for q in e.end_points]
+    return np.where(on_span, np.abs(np.hypot(*v.T) - abs(e.radius)), np.minimum(*ends))
+
+
+def _depth_closed(shape: Any, p: np.ndarray) -> np.ndarray:
+    inside = _winding(shape, p) != 0
+    if not inside.any():
+        return np.zeros(len(p))
+    depth = np.min([_edge_distance(e, p) for e in shape.edges], axis=0)
+    return np.where(inside, depth, 0.0)
+
+
+def _behind(e: Any, p: np.ndarray) -> np.ndarray:
+    """How far the points are behind an edge of an open chain (into its material), NaN where
+    they are not level with the edge."""
+    if isinstance(e, Segment):
+        a, n = np.asarray(e.start), np.asarray(e.normal)
+        u = np.asarray(e.end) - a
+        t = (p - a) @ u / float(u @ u)
+        return np.where((t >= 0) & (t <= 1), -(p - a) @ n, np.nan)
+    v = p - np.asarray(e.centre)
+    on_span = np.array([e.contains_angle(a) for a in np.arctan2(v[:, 1], v[:, 0])], dtype=bool)
+    out = np.hypot(*v.T) - abs(e.radius)
+    return np.where(on_span, -out if e.convex else out, np.nan)
+
+
+def _depth_open(shape: Any, p: np.ndarray) -> np.ndarray:
+    depth = np.zeros(len(p))
+    for e in shape.edges:
+        behind = _behind(e, p)
+        if np.nanmin(behind, initial=np.inf) < 0:  # the body reaches in front of this edge
+            depth = np.maximum(depth, np.nan_to_num(behind, nan=0.0))
+    return depth
+
+
+def deepest_overlap(
+    shapes: list[Any], poses: np.ndarray, fixed: list[bool], tolerance: float
+) -> tuple[int, int, float, tuple[float, float]] | None:
+    """The first pair ``(i, j, depth, world point)`` where a sample point of body ``i`` lies
+    more than ``tolerance`` inside body ``j`` (the deepest such point), or None."""
+    radii = np.array([float(s.bounding_radius) for s in shapes])
+    centres = np.asarray(poses, dtype=float)[:, :2]
+    first, second = candidate_pairs(centres, radii, np.asarray(fixed, dtype=bool), tolerance)
+    cache: dict[int, np.ndarray] = {}
+    for a, b in zip(first.tolist(), second.tolist(), strict=True):
+        for i, j in ((a, b), (b, a)):
+            if i not in cache:
+                cache[i] = _world(samples(shapes[i]), poses[i])
+            local = _local(cache[i], poses[j])
+            with np.errstate(all="ignore"):
+                closed = shapes[j].closed
+                depth = _depth_closed(shapes[j], local) if closed else _depth_open(shapes[j], local)
+            k = int(np.argmax(depth))
+            if depth[k] > tolerance:
+                return i, j, float(depth[k]), (float(cache[i][k, 0]), float(cache[i][k, 1]))
+    return None

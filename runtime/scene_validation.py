@@ -1,0 +1,353 @@
+"""Checked reading of scene input (TOML tables or plain dicts) into plain Python values.
+
+Scene files are written by hand, so every mistake must come back as one sentence that says
+where it is: the file, the body (name and 1-based position among the ``[[body]]`` tables) and
+the field.  This module does the type and range checks, builds each body's shape (wrapping the
+shapes module's ValueError with that context) and produces the messages; runtime/scene.py
+turns the checked values into bodies and checks overlaps.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import numbers
+import re
+from collections.abc import Mapping, Sequence
+from typing import Any, NoReturn
+
+import numpy as np
+
+from runtime import shapes as _shapes
+from runtime.integrators import METHODS
+
+__all__ = [
+    "BODY_KEYS",
+    "FIXED_ONLY_SHAPES",
+    "REQUIRED",
+    "SCENE_KEYS",
+    "SHAPE_PARAMETERS",
+    "SIMULATION_KEYS",
+    "TOP_LEVEL_KEYS",
+    "SceneError",
+    "Table",
+    "body_label",
+    "read_bodies",
+    "read_body",
+    "read_shape_spec",
+    "read_simulation",
+]
+
+
+class SceneError(ValueError):
+    """Invalid scene input; the message names the file, the body and the field."""
+
+
+TOP_LEVEL_KEYS = ("scene", "simulation", "body")
+SCENE_KEYS = ("name", "description", "gravity", "contact_tolerance", "overlap_tolerance")
+SIMULATION_KEYS = ("duration", "dt", "method", "stabilisation")
+BODY_KEYS = (
+    "name",
+    "fixed",
+    "shape",
+    "density",
+    "mass",
+    "inertia",
+    "position",
+    "angle",
+    "velocity",
+    "angular_velocity",
+    "restitution",
+)
+
+# Shape type -> its parameters and their kinds: "positive", "nonnegative", "finite" numbers,
+# "vector" [x, y], "points" [[x, y], ...] (all required) or "flag" (optional bool, default
+# false).  They are passed by keyword to the runtime.shapes constructor of the same name.
+SHAPE_PARAMETERS: dict[str, dict[str, str]] = {
+    "disc": {"radius": "positive"},
+    "polygon": {"points": "points"},
+    "rounded_rect": {"width": "positive", "height": "positive", "corner_radius": "nonnegative"},
+    "half_disc": {"radius": "positive"},
+    "d_shape": {"width": "positive", "height": "positive"},
+    "ellipse": {"a": "positive", "b": "positive"},
+    "wall": {"start": "vector", "end": "vector", "end_vertices": "flag"},
+    "bowl": {
+        "radius": "positive",
+        "start_angle": "finite",
+        "end_angle": "finite",
+        "end_vertices": "flag",
+    },
+    "box_walls": {"width": "positive", "height": "positive", "end_vertices": "flag"},
+}
+# Shapes without area (walls) or with a concave edge (bowl): fixed bodies only.
+FIXED_ONLY_SHAPES = ("wall", "bowl", "box_walls")
+
+
+def body_label(index: int, name: str | None = None) -> str:
+    """``body 'disc' (#2)`` for the body at 0-based ``index``; messages count from 1."""
+    if name is None:
+        return f"body #{index + 1}"
+    return f"body {name!r} (#{index + 1})"
+
+
+def _describe(value: Any) -> str:
+    """A short description of a bad value for an error message."""
+    if isinstance(value, str):
+        return f"the string {value!r}"
+    if isinstance(value, Mapping):
+        return "a table"
+    if isinstance(value, bool):
+        return f"the boolean {str(value).lower()}"
+    text = repr(value.tolist() if isinstance(value, np.ndarray) else value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
+
+
+def _is_sequence(value: Any) -> bool:
+    return isinstance(value, Sequence | np.ndarray) and not isinstance(value, str | bytes)
+
+
+def _suggest(key: str, valid: Sequence[str], what: str = "keys") -> str:
+    close = difflib.get_close_matches(key, valid, n=1, cutoff=0.6)
+    if close:
+        return f"did you mean {close[0]!r}?"
+    return f"valid {what}: " + ", ".join(repr(k) for k in valid)
+
+
+class Table:
+    """A mapping being read, with the context that error messages need.
+
+    ``where`` is the part of the message between the file and the field, e.g. ``[scene]`` or
+    ``body 'disc' (#2)``; ``prefix`` is prepended to field names (``shape.`` inside a shape).
+    """
+
+    def __init__(self, data: Any, source: str, where: str, prefix: str = "", field: str = ""):
+        self.source = source
+        self.where = where
+        self.prefix = ""  # the field of the table itself is named without the prefix
+        if not isinstance(data, Mapping):
+            self.fail(field, f"expected a table, got {_describe(data)}")
+        self.prefix = prefix
+        self.data: Mapping[str, Any] = data
+
+    # -- errors -------------------------------------------------------------------------
+    def fail(self, field: str, message: str) -> NoReturn:
+        parts = [self.source]
+        if self.where:
+            parts.append(self.where)
+        if field:
+            parts.append(f"field {self.prefix + field!r}")
+        parts.append(message)
+        raise SceneError(": ".join(parts)) from None  # one line, no chained traceback
+
+    def check_keys(self, valid: Sequence[str]) -> None:
+        """Reject keys that are not in ``valid``, suggesting the closest valid one."""
+        for key in self.data:
+            if key not in valid:
+                self.fail(str(key), f"unknown key; {_suggest(str(key), valid)}")
+
+    def has(self, key: str) -> bool:
+        return key in self.data
+
+    def _get(self, key: str, default: Any) -> Any:
+        if key in self.data:
+            return self.data[key]
+        if default is _REQUIRED:
+            self.fail(key, "missing required field")
+        return default
+
+    # -- typed readers ------------------------------------------------------------------
+    def number(self, key: str, default: Any = None, *, check: str = "finite") -> float:
+        """A finite float; ``check`` is "finite", "positive", "nonnegative" or "unit"."""
+        return self.check_number(key, self._get(key, default), check)
+
+    def check_number(self, key: str, value: Any, check: str = "finite") -> float:
+        if not _is_number(value):
+            self.fail(key, f"expected a number, got {_describe(value)}")
+        x = float(value)
+        if not math.isfinite(x):
+            self.fail(key, f"must be finite, got {x}")
+        if check == "positive" and not x > 0:
+            self.fail(key, f"must be > 0, got {x}")
+        if check == "nonnegative" and not x >= 0:
+            self.fail(key, f"must be >= 0, got {x}")
+        if check == "unit" and not 0 <= x <= 1:
+            self.fail(key, f"must be between 0 and 1, got {x}")
+        return x
+
+    def vector(self, key: str, default: Any = None) -> tuple[float, float]:
+        """A pair of finite floats ``[x, y]``."""
+        return self.check_vector(key, self._get(key, default))
+
+    def check_vector(self, key: str, value: Any) -> tuple[float, float]:
+        if not _is_sequence(value) or len(value) != 2:
+            self.fail(key, f"expected a list of 2 numbers [x, y], got {_describe(value)}")
+        x = self.check_number(f"{key}[0]", value[0])
+        y = self.check_number(f"{key}[1]", value[1])
+        return (x, y)
+
+    def points(self, key: str) -> list[tuple[float, float]]:
+        """A list of at least three ``[x, y]`` points."""
+        value = self._get(key, _REQUIRED)
+        if not _is_sequence(value) or len(value) < 3:
+            self.fail(
+                key, f"expected a list of at least 3 points [[x, y], ...], got {_describe(value)}"
+            )
+        return [self.check_vector(f"{key}[{i}]", p) for i, p in enumerate(value)]
+
+    def string(self, key: str, default: Any = None) -> str:
+        value = self._get(key, default)
+        if not isinstance(value, str) or (key in self.data and not value.strip()):
+            self.fail(key, f"expected a non-empty string, got {_describe(value)}")
+        return value
+
+    def boolean(self, key: str, default: Any = None) -> bool:
+        value = self._get(key, default)
+        if not isinstance(value, bool | np.bool_):
+            self.fail(key, f"expected true or false, got {_describe(value)}")
+        return bool(value)
+
+    def subtable(self, key: str, prefix: str = "") -> Table:
+        return Table(self._get(key, _REQUIRED), self.source, self.where, prefix, key)
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "REQUIRED"
+
+
+_REQUIRED: Any = _Required()
+REQUIRED: Any = _REQUIRED
+
+
+def read_shape_spec(body: Table, *, fixed: bool) -> tuple[str, dict[str, Any]]:
+    """The ``shape`` table of a body: its type and checked constructor keyword arguments."""
+    shape = body.subtable("shape", prefix="shape.")
+    kind = shape.string("type", REQUIRED)
+    if kind not in SHAPE_PARAMETERS:
+        shape.fail(
+            "type",
+            f"unknown shape type {kind!r}; {_suggest(kind, list(SHAPE_PARAMETERS), 'types')}",
+        )
+    params = SHAPE_PARAMETERS[kind]
+    shape.check_keys(("type", *params))
+    if not fixed and kind in FIXED_ONLY_SHAPES:
+        if kind == "bowl":
+            reason = "a concave edge (bowl) on a moving body is not supported"
+        else:
+            reason = f"a {kind!r} has no area and cannot move"
+        shape.fail("type", f"{reason}; use it on a fixed body (fixed = true)")
+    kwargs: dict[str, Any] = {}
+    for name, kind_of in params.items():
+        if kind_of == "points":
+            kwargs[name] = shape.points(name)
+        elif kind_of == "vector":
+            kwargs[name] = shape.vector(name, REQUIRED)
+        elif kind_of == "flag":
+            if shape.has(name):
+                kwargs[name] = shape.boolean(name)
+        else:
+            kwargs[name] = shape.number(name, REQUIRED, check=kind_of)
+    return kind, kwargs
+
+
+def read_simulation(data: Any, source: str, default_duration: float) -> dict[str, Any]:
+    """The ``[simulation]`` table as keyword arguments of SimulationDefaults."""
+    sim = Table(data, source, "[simulation]", field="simulation")
+    sim.check_keys(SIMULATION_KEYS)
+    values: dict[str, Any] = {}
+    for key in ("duration", "dt"):
+        if sim.has(key):
+            values[key] = sim.number(key, check="positive")
+    if "dt" in values and values["dt"] > values.get("duration", default_duration):
+        duration = values.get("duration", default_duration)
+        sim.fail("dt", f"must not exceed duration ({duration}), got {values['dt']}")
+    if sim.has("method"):
+        method = values["method"] = sim.string("method").lower()
+        if method not in METHODS:
+            sim.fail("method", f"unknown method {method!r}; {_suggest(method, METHODS, 'methods')}")
+    if sim.has("stabilisation"):
+        values["stabilisation"] = sim.boolean("stabilisation")
+    return values
+
+
+def read_bodies(top: Table) -> list[dict[str, Any]]:
+    """The ``[[body]]`` tables as keyword arguments of ``Body.from_shape``."""
+    raw_bodies = top.data.get("body")
+    if raw_bodies is None:
+        top.fail("body", "missing: a scene needs at least one [[body]] table")
+    if isinstance(raw_bodies, Mapping):
+        top.fail("body", "expected an array of tables: write [[body]], not [body]")
+    if not _is_sequence(raw_bodies) or len(raw_bodies) == 0:
+        top.fail(
+            "body", f"expected a non-empty array of [[body]] tables, got {_describe(raw_bodies)}"
+        )
+    specs: list[dict[str, Any]] = []
+    for index, raw in enumerate(raw_bodies):
+        spec = read_body(raw, index, top.source)
+        for other_index, other in enumerate(specs):
+            if other["name"] == spec["name"]:
+                message = f"duplicate name, also used by {body_label(other_index)}"
+                Table({}, top.source, body_label(index, spec["name"])).fail("name", message)
+        specs.append(spec)
+    return specs
+
+
+def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
+    """One ``[[body]]`` table, checked, with its shape built (not yet centred)."""
+    name = raw.get("name") if isinstance(raw, Mapping) else None
+    label = body_label(index, name if isinstance(name, str) and name.strip() else None)
+    table = Table(raw, source, label, field="")
+    table.check_keys(BODY_KEYS)
+    name = table.string("name", f"body{index + 1}")
+    fixed = table.boolean("fixed", False)
+    kind, kwargs = read_shape_spec(table, fixed=fixed)
+    try:
+        shape = getattr(_shapes, kind)(**kwargs)
+    except ValueError as exc:
+        table.fail(_shape_field(str(exc), kwargs), str(exc))
+    spec: dict[str, Any] = {
+        "name": name,
+        "shape": shape,
+        "fixed": fixed,
+        "position": table.vector("position", (0.0, 0.0) if fixed else REQUIRED),
+        "angle": table.number("angle", 0.0),
+        "restitution": table.number("restitution", 0.0, check="unit"),
+    }
+    if fixed:
+        for key in ("mass", "density", "inertia"):
+            if table.has(key):
+                table.fail(key, "a fixed body has infinite mass; remove this field")
+        if table.vector("velocity", (0.0, 0.0)) != (0.0, 0.0):
+            table.fail("velocity", "a fixed body cannot move; remove this field")
+        if table.number("angular_velocity", 0.0) != 0.0:
+            table.fail("angular_velocity", "a fixed body cannot move; remove this field")
+        return spec
+    if table.has("mass") and table.has("density"):
+        table.fail("mass", "give either 'mass' or 'density', not both")
+    if not (table.has("mass") or table.has("density")):
+        table.fail("mass", "missing required field: a moving body needs 'mass' or 'density'")
+    for key in ("mass", "density", "inertia"):
+        spec[key] = table.number(key, check="positive") if table.has(key) else None
+    area = float(shape.area)
+    if not (math.isfinite(area) and area > 0):
+        table.fail("shape", f"a moving body needs a shape with area > 0, got area {area}")
+    if any(getattr(edge, "radius", 0.0) < 0 for edge in shape.edges):
+        table.fail("shape", "a concave edge on a moving body is not supported; make it fixed")
+    spec["velocity"] = table.vector("velocity", (0.0, 0.0))
+    spec["angular_velocity"] = table.number("angular_velocity", 0.0)
+    return spec
+
+
+def _shape_field(message: str, kwargs: Mapping[str, Any]) -> str:
+    """The ``shape.<parameter>`` a shapes-constructor error is about: the parameter named
+    first in its message (they read "polygon: points must be ...")."""
+    found = [
+        (m.start(), name)
+        for name in kwargs
+        if (m := re.search(rf"\b{re.escape(name)}\b", message)) is not None
+    ]
+    return f"shape.{min(found)[1]}" if found else "shape"

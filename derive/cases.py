@@ -55,7 +55,7 @@ def _circle_formulas(q: str) -> dict[str, str]:
     return {
         "gap": f"d = sigma |v| - r2{' - r1' if q == 'c1' else ''},  v = {q} - c2,  sigma = sign(r2)",
         "gap_velocity": "d' = n . v',  n = sigma v/|v|",
-        "gap_acceleration": "d'' = n . v'' + sigma (v x v')^2 / |v|^3   (= n' . v' + n . v'')",
+        "gap_acceleration": "d'' = n . v'' + sigma v_tan^2 / |v|,  v_tan = (v x v') / |v|   (= n' . v' + n . v'')",
     }
 
 

@@ -26,6 +26,7 @@ VELOCITY = BODY1.velocity_symbols() + BODY2.velocity_symbols()
 ACCELERATION = BODY1.acceleration_symbols() + BODY2.acceleration_symbols()
 BODY2_MOTION = BODY2.velocity_symbols() + BODY2.acceleration_symbols()
 V_LEN = sp.Symbol("v_len", positive=True)
+V_TAN = real("v_tan")  # tangential relative speed (v x v')/|v|
 _SPINS = (VELOCITY[2], VELOCITY[5])  # w1, w2: grouping by them lets CSE share the lever vectors
 _SPIN_RATES = (ACCELERATION[2], ACCELERATION[5])
 
@@ -166,17 +167,19 @@ def _line_case(case: CaseDefinition) -> Derivatives:
 
 
 def norm_second_derivative() -> tuple[sp.Expr, sp.Expr]:
-    """SymPy's d''/sigma of |v| and the stable form the kernels use, both over v_x, v_y and v_len.
+    """SymPy's d''/sigma of |v| and the stable form the kernels use, both over v_x, v_y, v_x_t, ...
 
     SymPy's second derivative is (|v'|^2 + v.v'')/|v| - (v.v')^2/|v|^3, whose velocity terms cancel
-    when v' is along v. The kernels use the equal form v.v''/|v| + (v x v')^2/|v|^3 (Lagrange's
-    identity); `_circle_case` has SymPy prove the two equal every time it derives.
+    when v' is along v. The kernels use the equal form v.v''/|v| + v_tan^2/|v| with the tangential
+    relative speed v_tan = (v x v')/|v| (Lagrange's identity): no cancellation, and no |v|^3 to
+    underflow. `_circle_case` has SymPy prove the two equal every time it derives.
     """
     (vx, vy), names = _abstract_to_names("v")
     raw = _rename(sp.diff(sp.sqrt(vx**2 + vy**2), t, 2), names)
     (sx, sx_t, sx_tt), (sy, sy_t, sy_tt) = _vector_names("v")
-    stable = (sx * sx_tt + sy * sy_tt) / V_LEN + (sx * sy_t - sy * sx_t) ** 2 / V_LEN**3
-    return raw, stable.subs(V_LEN, sp.sqrt(sx**2 + sy**2))
+    stable = (sx * sx_tt + sy * sy_tt) / V_LEN + V_TAN**2 / V_LEN
+    length = sp.sqrt(sx**2 + sy**2)
+    return raw, stable.subs(V_TAN, (sx * sy_t - sy * sx_t) / V_LEN).subs(V_LEN, length)
 
 
 def _circle_case(case: CaseDefinition) -> Derivatives:
@@ -185,14 +188,16 @@ def _circle_case(case: CaseDefinition) -> Derivatives:
     if sp.simplify(raw - stable) != 0:
         raise AssertionError("the stable form of d'' for |v| differs from SymPy's derivative")
     (vx, vy), names = _abstract_to_names("v")
-    (sx, _, _), (sy, _, _) = _vector_names("v")
+    (sx, sx_t, sx_tt), (sy, sy_t, sy_tt) = _vector_names("v")
     length = sp.sqrt(sx**2 + sy**2)
     d0, d1 = (_rename(SIGMA2 * sp.diff(sp.sqrt(vx**2 + vy**2), t, k), names) for k in (0, 1))
-    d0, d1, d2 = (e.subs(length, V_LEN) for e in (d0, d1, SIGMA2 * stable))
+    d0, d1 = (e.subs(length, V_LEN) for e in (d0, d1))
+    d2 = SIGMA2 * ((sx * sx_tt + sy * sy_tt) / V_LEN + V_TAN**2 / V_LEN)
     radius2 = case.geometry[-1]
     inter = _translation() + [(SIGMA2, UnitSign(radius2))]
     inter += _vector_intermediates("v", case.v)
     inter.insert(5, (V_LEN, Hypot(sx, sy)))  # right after v_x, v_y
+    inter.insert(8, (V_TAN, (sx * sy_t - sy * sx_t) / V_LEN))  # right after v_x_t, v_y_t
     return Derivatives(case, tuple(inter), d0 - case.offset, d1, d2)
 
 

@@ -18,6 +18,7 @@ from derive.osculating import check as osculating_check
 _NAMES = {
     "sg2": r"\sigma",
     "v_len": r"|v|",
+    "v_tan": r"v_{\perp}",
     "dx": r"\Delta x",
     "dy": r"\Delta y",
     "th1": r"\theta_1",

@@ -31,9 +31,14 @@ class KernelPrinter(NumPyPrinter):
 
     def _print_Pow(self, expr, rational=False):
         base, exp = expr.as_base_exp()
-        if exp.is_Integer and exp < 0:
-            denominator = base if exp == -1 else sp.Pow(base, -exp, evaluate=False)
-            return f"1 / {self.parenthesize(denominator, PRECEDENCE['Mul'])}"
+        if exp.is_Integer and 2 <= abs(exp) <= 3:
+            # A product, not `**`: NumPy's scalar pow and array power differ in the last bit, and
+            # a kernel must give the same answer for a float and a 1-element array.
+            factor = self.parenthesize(base, PRECEDENCE["Mul"], strict=True)
+            product = " * ".join([factor] * abs(int(exp)))
+            return product if exp > 0 else f"1 / ({product})"
+        if exp == -1:
+            return f"1 / {self.parenthesize(base, PRECEDENCE['Mul'])}"
         if exp == sp.Rational(1, 2):
             return f"{self._module_format('numpy.sqrt')}({self._print(base)})"
         return super()._print_Pow(expr, rational=rational)

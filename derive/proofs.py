@@ -151,7 +151,7 @@ def _abstract_circle_note() -> Proof:
 def stable_form(d: Derivatives) -> Proof:
     raw, stable = norm_second_derivative()
     return Proof(
-        f"{d.case.name}: the kernel's d'' = sigma(v.v''/|v| + (v x v')^2/|v|^3) equals SymPy's"
+        f"{d.case.name}: the kernel's d'' = sigma(v.v'' + v_tan^2)/|v|, v_tan = (v x v')/|v|, equals SymPy's"
         " second derivative of sigma|v| (no cancellation when v' is along v)",
         sp.simplify(raw - stable) == 0,
     )

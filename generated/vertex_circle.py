@@ -211,7 +211,7 @@ def gap_acceleration(
 ):
     """Exact d'' for any state.
 
-    d'' = n . v'' + sigma (v x v')^2 / |v|^3   (= n' . v' + n . v'')
+    d'' = n . v'' + sigma v_tan^2 / |v|,  v_tan = (v x v') / |v|   (= n' . v' + n . v'')
     Returns d2.
     """
     e0 = np.sin(th2)
@@ -227,21 +227,21 @@ def gap_acceleration(
     e10 = -e8
     e11 = -cy2 * e0 + e2
     e12 = -e11
-    e13 = w1**2
-    e14 = w2**2
+    e14 = w1 * w1
+    e15 = w2 * w2
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = cy2 * e0 + dx - e2 + e5
     v_y = dy - e6 - e7 + e8
     v_len = np.hypot(v_x, v_y)
+    e13 = 1 / v_len
     v_x_t = e10 * w1 + e9 * w2 + vx1 - vx2
     v_y_t = e12 * w2 + e5 * w1 + vy1 - vy2
-    v_x_tt = al1 * e10 + al2 * e9 + ax1 - ax2 + e11 * e14 - e13 * e5
-    v_y_tt = al1 * e5 + al2 * e12 + ay1 - ay2 + e10 * e13 + e14 * e9
-    return sg2 * (
-        (v_x * v_x_tt + v_y * v_y_tt) / v_len + (v_x * v_y_t - v_x_t * v_y) ** 2 / v_len**3
-    )
+    v_tan = e13 * (v_x * v_y_t - v_x_t * v_y)
+    v_x_tt = al1 * e10 + al2 * e9 + ax1 - ax2 + e11 * e15 - e14 * e5
+    v_y_tt = al1 * e5 + al2 * e12 + ay1 - ay2 + e10 * e14 + e15 * e9
+    return sg2 * (e13 * v_tan * v_tan + e13 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
 def jacobian(*, x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
@@ -282,7 +282,7 @@ def jacobian(*, x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
 def bias(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, cx2, cy2, r2):
     """Velocity-dependent part of d'': the b-vector term.
 
-    d'' = n . v'' + sigma (v x v')^2 / |v|^3   (= n' . v' + n . v'')  with ax1 = ay1 = al1 = ax2 = ay2 = al2 = 0
+    d'' = n . v'' + sigma v_tan^2 / |v|,  v_tan = (v x v') / |v|   (= n' . v' + n . v'')  with ax1 = ay1 = al1 = ax2 = ay2 = al2 = 0
     Returns b.
     """
     e0 = np.sin(th2)
@@ -297,21 +297,21 @@ def bias(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, cx2,
     e9 = e6 + e7
     e10 = -e8
     e11 = -cy2 * e0 + e2
-    e12 = w1**2
-    e13 = w2**2
+    e13 = w1 * w1
+    e14 = w2 * w2
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = cy2 * e0 + dx - e2 + e5
     v_y = dy - e6 - e7 + e8
     v_len = np.hypot(v_x, v_y)
+    e12 = 1 / v_len
     v_x_t = e10 * w1 + e9 * w2 + vx1 - vx2
     v_y_t = -e11 * w2 + e5 * w1 + vy1 - vy2
-    v_x_tt = e11 * e13 - e12 * e5
-    v_y_tt = e10 * e12 + e13 * e9
-    return sg2 * (
-        (v_x * v_x_tt + v_y * v_y_tt) / v_len + (v_x * v_y_t - v_x_t * v_y) ** 2 / v_len**3
-    )
+    v_tan = e12 * (v_x * v_y_t - v_x_t * v_y)
+    v_x_tt = e11 * e14 - e13 * e5
+    v_y_tt = e10 * e13 + e14 * e9
+    return sg2 * (e12 * v_tan * v_tan + e12 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
 def gap_velocity_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, cx2, cy2, r2):
@@ -342,7 +342,7 @@ def gap_acceleration_static2(
 ):
     """Exact d'' with body 2 fixed.
 
-    d'' = n . v'' + sigma (v x v')^2 / |v|^3   (= n' . v' + n . v'')  [body 2 fixed: v2 = w2 = a2 = al2 = 0]
+    d'' = n . v'' + sigma v_tan^2 / |v|,  v_tan = (v x v') / |v|   (= n' . v' + n . v'')  [body 2 fixed: v2 = w2 = a2 = al2 = 0]
     Returns d2.
     """
     e0 = np.sin(th2)
@@ -352,20 +352,20 @@ def gap_acceleration_static2(
     e4 = e2 * px1 - e3 * py1
     e5 = e2 * py1 + e3 * px1
     e6 = -e5
-    e7 = w1**2
+    e8 = w1 * w1
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = -cx2 * e1 + cy2 * e0 + dx + e4
     v_y = -cx2 * e0 - cy2 * e1 + dy + e5
     v_len = np.hypot(v_x, v_y)
+    e7 = 1 / v_len
     v_x_t = e6 * w1 + vx1
     v_y_t = e4 * w1 + vy1
-    v_x_tt = al1 * e6 + ax1 - e4 * e7
-    v_y_tt = al1 * e4 + ay1 + e6 * e7
-    return sg2 * (
-        (v_x * v_x_tt + v_y * v_y_tt) / v_len + (v_x * v_y_t - v_x_t * v_y) ** 2 / v_len**3
-    )
+    v_tan = e7 * (v_x * v_y_t - v_x_t * v_y)
+    v_x_tt = al1 * e6 + ax1 - e4 * e8
+    v_y_tt = al1 * e4 + ay1 + e6 * e8
+    return sg2 * (e7 * v_tan * v_tan + e7 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
 def jacobian_static2(*, x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
@@ -393,7 +393,7 @@ def jacobian_static2(*, x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
 def bias_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     """b-vector term with body 2 fixed.
 
-    d'' = n . v'' + sigma (v x v')^2 / |v|^3   (= n' . v' + n . v'')  with ax1 = ay1 = al1 = ax2 = ay2 = al2 = 0  [body 2 fixed: v2 = w2 = a2 = al2 = 0]
+    d'' = n . v'' + sigma v_tan^2 / |v|,  v_tan = (v x v') / |v|   (= n' . v' + n . v'')  with ax1 = ay1 = al1 = ax2 = ay2 = al2 = 0  [body 2 fixed: v2 = w2 = a2 = al2 = 0]
     Returns b.
     """
     e0 = np.sin(th2)
@@ -403,17 +403,17 @@ def bias_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, cx2, cy2, 
     e4 = e2 * px1 - e3 * py1
     e5 = e2 * py1 + e3 * px1
     e6 = -e5
-    e7 = w1**2
+    e8 = w1 * w1
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = -cx2 * e1 + cy2 * e0 + dx + e4
     v_y = -cx2 * e0 - cy2 * e1 + dy + e5
     v_len = np.hypot(v_x, v_y)
+    e7 = 1 / v_len
     v_x_t = e6 * w1 + vx1
     v_y_t = e4 * w1 + vy1
-    v_x_tt = -e4 * e7
-    v_y_tt = e6 * e7
-    return sg2 * (
-        (v_x * v_x_tt + v_y * v_y_tt) / v_len + (v_x * v_y_t - v_x_t * v_y) ** 2 / v_len**3
-    )
+    v_tan = e7 * (v_x * v_y_t - v_x_t * v_y)
+    v_x_tt = -e4 * e8
+    v_y_tt = e6 * e8
+    return sg2 * (e7 * v_tan * v_tan + e7 * (v_x * v_x_tt + v_y * v_y_tt))

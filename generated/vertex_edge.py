@@ -232,7 +232,7 @@ def gap_acceleration(
     e2 = e0 * nx2 - e1 * ny2
     e3 = e0 * ny2 + e1 * nx2
     e4 = -e3
-    e5 = w2**2
+    e5 = w2 * w2
     e6 = e0 * ex2
     e7 = np.cos(th1)
     e8 = np.sin(th1)
@@ -244,7 +244,7 @@ def gap_acceleration(
     e14 = -e12
     e15 = -e1 * ey2 + e6
     e16 = -e15
-    e17 = w1**2
+    e17 = w1 * w1
     dx = x1 - x2
     dy = y1 - y2
     n_x = e2
@@ -314,7 +314,7 @@ def bias(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, ex2,
     e2 = e0 * nx2 - e1 * ny2
     e3 = e0 * ny2 + e1 * nx2
     e4 = -e3
-    e5 = w2**2
+    e5 = w2 * w2
     e6 = e0 * ex2
     e7 = np.cos(th1)
     e8 = np.sin(th1)
@@ -325,7 +325,7 @@ def bias(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, ex2,
     e13 = e10 + e11
     e14 = -e12
     e15 = -e1 * ey2 + e6
-    e16 = w1**2
+    e16 = w1 * w1
     dx = x1 - x2
     dy = y1 - y2
     n_x = e2
@@ -390,7 +390,7 @@ def gap_acceleration_static2(
     e4 = e2 * px1 - e3 * py1
     e5 = e2 * py1 + e3 * px1
     e6 = -e5
-    e7 = w1**2
+    e7 = w1 * w1
     dx = x1 - x2
     dy = y1 - y2
     n_x = e0 * nx2 - e1 * ny2
@@ -443,7 +443,7 @@ def bias_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, ex2, ey2, 
     e4 = e2 * px1 - e3 * py1
     e5 = e2 * py1 + e3 * px1
     e6 = -e5
-    e7 = w1**2
+    e7 = w1 * w1
     dx = x1 - x2
     dy = y1 - y2
     n_x = e0 * nx2 - e1 * ny2

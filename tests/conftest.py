@@ -1,0 +1,13 @@
+"""Test-suite setup: make the project packages and the test helpers importable.
+
+The project is not installed into the virtualenv, so the repository root (for ``derive``,
+``generated``, ``runtime``) and ``tests/`` (for the shared helper ``oracle``) go on sys.path.
+"""
+
+import sys
+from pathlib import Path
+
+_TESTS = Path(__file__).resolve().parent
+for _path in (_TESTS.parent, _TESTS):
+    if str(_path) not in sys.path:
+        sys.path.insert(0, str(_path))

@@ -92,14 +92,25 @@ class Derivatives:
         return tuple(self.total_derivative(self.gap_acceleration, a) for a in ACCELERATION)
 
     def with_state(self, values: dict[sp.Symbol, sp.Expr]) -> Derivatives:
-        """The same derivatives with some state symbols fixed (e.g. zero accelerations)."""
-        inter = tuple((s, e.subs(values)) for s, e in self.intermediates)
+        """The same derivatives with some state symbols fixed (e.g. zero accelerations).
+
+        Intermediates that become constants (n' = 0 for a fixed body) are folded into the rest,
+        so the specialised kernels do not compute terms that are known to vanish.
+        """
+        folded = dict(values)
+        inter = []
+        for s, e in self.intermediates:
+            value = e.subs(folded)
+            if value.is_number:
+                folded[s] = value
+            else:
+                inter.append((s, value))
         return Derivatives(
             self.case,
-            inter,
-            self.gap.subs(values),
-            self.gap_velocity.subs(values),
-            self.gap_acceleration.subs(values),
+            tuple(inter),
+            self.gap.subs(folded),
+            self.gap_velocity.subs(folded),
+            self.gap_acceleration.subs(folded),
         )
 
     @cached_property

@@ -86,61 +86,21 @@ ARGUMENTS = {
         "nx2",
         "ny2",
     ),
-    "gap_velocity_static2": (
-        "x1",
-        "y1",
-        "th1",
-        "vx1",
-        "vy1",
-        "w1",
-        "x2",
-        "y2",
-        "th2",
-        "px1",
-        "py1",
-        "ex2",
-        "ey2",
-        "nx2",
-        "ny2",
-    ),
+    "gap_velocity_static2": ("th1", "vx1", "vy1", "w1", "th2", "px1", "py1", "nx2", "ny2"),
     "gap_acceleration_static2": (
-        "x1",
-        "y1",
         "th1",
-        "vx1",
-        "vy1",
         "w1",
         "ax1",
         "ay1",
         "al1",
-        "x2",
-        "y2",
         "th2",
         "px1",
         "py1",
-        "ex2",
-        "ey2",
         "nx2",
         "ny2",
     ),
     "jacobian_static2": ("th1", "th2", "px1", "py1", "nx2", "ny2"),
-    "bias_static2": (
-        "x1",
-        "y1",
-        "th1",
-        "vx1",
-        "vy1",
-        "w1",
-        "x2",
-        "y2",
-        "th2",
-        "px1",
-        "py1",
-        "ex2",
-        "ey2",
-        "nx2",
-        "ny2",
-    ),
+    "bias_static2": ("th1", "w1", "th2", "px1", "py1", "nx2", "ny2"),
 }
 
 
@@ -350,7 +310,7 @@ def bias(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, ex2,
     )
 
 
-def gap_velocity_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, ex2, ey2, nx2, ny2):
+def gap_velocity_static2(*, th1, vx1, vy1, w1, th2, px1, py1, nx2, ny2):
     """Exact d' with body 2 fixed.
 
     d' = n' . (p1 - e2) + n . (p1' - e2')  [body 2 fixed: v2 = w2 = a2 = al2 = 0]
@@ -358,26 +318,16 @@ def gap_velocity_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, ex
     """
     e0 = np.cos(th2)
     e1 = np.sin(th2)
-    e2 = np.cos(th1)
-    e3 = np.sin(th1)
-    e4 = e2 * px1 - e3 * py1
-    e5 = e2 * py1 + e3 * px1
-    dx = x1 - x2
-    dy = y1 - y2
+    e2 = np.sin(th1)
+    e3 = np.cos(th1)
     n_x = e0 * nx2 - e1 * ny2
     n_y = e0 * ny2 + e1 * nx2
-    n_x_t = 0
-    n_y_t = 0
-    v_x = dx - e0 * ex2 + e1 * ey2 + e4
-    v_y = dy - e0 * ey2 - e1 * ex2 + e5
-    v_x_t = -e5 * w1 + vx1
-    v_y_t = e4 * w1 + vy1
-    return n_x * v_x_t + n_x_t * v_x + n_y * v_y_t + n_y_t * v_y
+    v_x_t = vx1 + w1 * (-e2 * px1 - e3 * py1)
+    v_y_t = vy1 + w1 * (-e2 * py1 + e3 * px1)
+    return n_x * v_x_t + n_y * v_y_t
 
 
-def gap_acceleration_static2(
-    *, x1, y1, th1, vx1, vy1, w1, ax1, ay1, al1, x2, y2, th2, px1, py1, ex2, ey2, nx2, ny2
-):
+def gap_acceleration_static2(*, th1, w1, ax1, ay1, al1, th2, px1, py1, nx2, ny2):
     """Exact d'' with body 2 fixed.
 
     d'' = n'' . (p1 - e2) + 2 n' . (p1' - e2') + n . (p1'' - e2'')  [body 2 fixed: v2 = w2 = a2 = al2 = 0]
@@ -385,34 +335,16 @@ def gap_acceleration_static2(
     """
     e0 = np.cos(th2)
     e1 = np.sin(th2)
-    e2 = np.cos(th1)
-    e3 = np.sin(th1)
-    e4 = e2 * px1 - e3 * py1
-    e5 = e2 * py1 + e3 * px1
-    e6 = -e5
-    e7 = w1 * w1
-    dx = x1 - x2
-    dy = y1 - y2
+    e2 = np.sin(th1)
+    e3 = np.cos(th1)
+    e4 = -e2 * px1 - e3 * py1
+    e5 = w1 * w1
+    e6 = -e2 * py1 + e3 * px1
     n_x = e0 * nx2 - e1 * ny2
     n_y = e0 * ny2 + e1 * nx2
-    n_x_t = 0
-    n_y_t = 0
-    n_x_tt = 0
-    n_y_tt = 0
-    v_x = dx - e0 * ex2 + e1 * ey2 + e4
-    v_y = dy - e0 * ey2 - e1 * ex2 + e5
-    v_x_t = e6 * w1 + vx1
-    v_y_t = e4 * w1 + vy1
-    v_x_tt = al1 * e6 + ax1 - e4 * e7
-    v_y_tt = al1 * e4 + ay1 + e6 * e7
-    return (
-        n_x * v_x_tt
-        + 2 * n_x_t * v_x_t
-        + n_x_tt * v_x
-        + n_y * v_y_tt
-        + 2 * n_y_t * v_y_t
-        + n_y_tt * v_y
-    )
+    v_x_tt = al1 * e4 + ax1 - e5 * e6
+    v_y_tt = al1 * e6 + ay1 + e4 * e5
+    return n_x * v_x_tt + n_y * v_y_tt
 
 
 def jacobian_static2(*, th1, th2, px1, py1, nx2, ny2):
@@ -430,7 +362,7 @@ def jacobian_static2(*, th1, th2, px1, py1, nx2, ny2):
     return n_x, n_y, -n_x * (e2 * px1 + e3 * py1) + n_y * (-e2 * py1 + e3 * px1)
 
 
-def bias_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, ex2, ey2, nx2, ny2):
+def bias_static2(*, th1, w1, th2, px1, py1, nx2, ny2):
     """b-vector term with body 2 fixed.
 
     d'' = n'' . (p1 - e2) + 2 n' . (p1' - e2') + n . (p1'' - e2'')  with ax1 = ay1 = al1 = ax2 = ay2 = al2 = 0  [body 2 fixed: v2 = w2 = a2 = al2 = 0]
@@ -438,31 +370,11 @@ def bias_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, ex2, ey2, 
     """
     e0 = np.cos(th2)
     e1 = np.sin(th2)
-    e2 = np.cos(th1)
-    e3 = np.sin(th1)
-    e4 = e2 * px1 - e3 * py1
-    e5 = e2 * py1 + e3 * px1
-    e6 = -e5
-    e7 = w1 * w1
-    dx = x1 - x2
-    dy = y1 - y2
+    e2 = w1 * w1
+    e3 = np.cos(th1)
+    e4 = np.sin(th1)
     n_x = e0 * nx2 - e1 * ny2
     n_y = e0 * ny2 + e1 * nx2
-    n_x_t = 0
-    n_y_t = 0
-    n_x_tt = 0
-    n_y_tt = 0
-    v_x = dx - e0 * ex2 + e1 * ey2 + e4
-    v_y = dy - e0 * ey2 - e1 * ex2 + e5
-    v_x_t = e6 * w1 + vx1
-    v_y_t = e4 * w1 + vy1
-    v_x_tt = -e4 * e7
-    v_y_tt = e6 * e7
-    return (
-        n_x * v_x_tt
-        + 2 * n_x_t * v_x_t
-        + n_x_tt * v_x
-        + n_y * v_y_tt
-        + 2 * n_y_t * v_y_t
-        + n_y_tt * v_y
-    )
+    v_x_tt = e2 * (-e3 * px1 + e4 * py1)
+    v_y_tt = e2 * (-e3 * py1 - e4 * px1)
+    return n_x * v_x_tt + n_y * v_y_tt

@@ -1,0 +1,526 @@
+"""Shapes of 2-D rigid bodies: straight and circular edges, ellipses, exact mass properties.
+
+Why this module exists: the contact kernels (docs/conventions.md) need each body's features in
+body coordinates -- vertices ``p``, straight edges ``(e, n)``, circular edges ``(c, r)`` with
+the signed-radius convention (concave = negative) -- and the engine needs the area, centroid
+and second moment of the region they bound, exactly, also for boundaries that mix segments and
+circular arcs.
+
+Orientation: a boundary is traversed with the body's material on the LEFT (counter-clockwise
+for a closed shape), so a segment's outward normal is the right-hand normal of ``end - start``.
+
+Arc spans: an :class:`Arc` covers the angles ``start_angle -> end_angle`` swept
+COUNTER-CLOCKWISE about its centre (``0 < end_angle - start_angle <= 2 pi``) whatever the sign
+of its radius.  A convex arc (``radius > 0``, material inside the circle) is traversed in that
+direction; a concave arc (``radius < 0``, material outside, a bowl) is traversed the other way,
+from ``end_angle`` back to ``start_angle``.
+
+Mass properties (Green's theorem, per unit density, about a reference point ``o``)::
+
+    A = 1/2 loop (x dy - y dx),   A Cx = loop x^2/2 dy,   A Cy = -loop y^2/2 dx,
+    J_o = loop (x^3 dy - y^3 dx) / 3.
+
+A segment gives the polygon terms; an arc ``x = h + R cos t, y = k + R sin t`` gives closed
+forms in ``sin, cos`` of its end angles (``_arc_terms``), signed by the traversal direction.
+The polar second moment about the centroid is ``J_o - A |C - o|^2``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+Point = tuple[float, float]
+TAU = 2.0 * math.pi
+_JOIN = 1e-9  # relative tolerance for edges meeting and for tangent continuity
+
+
+def _number(name: str, value: object, *, positive: bool = False, where: str = "") -> float:
+    try:
+        x = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}{name} must be a number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{where}{name} must be finite, got {value!r}")
+    if positive and not x > 0:
+        raise ValueError(f"{where}{name} must be > 0, got {x!r}")
+    return x
+
+
+def _point(name: str, value: object, where: str = "") -> Point:
+    try:
+        x, y = value  # type: ignore[misc]
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}{name} must be a pair (x, y), got {value!r}") from None
+    return (_number(f"{name}[0]", x, where=where), _number(f"{name}[1]", y, where=where))
+
+
+def _set(obj: object, **values: object) -> None:
+    """Set validated fields of a frozen dataclass in __post_init__."""
+    for name, value in values.items():
+        object.__setattr__(obj, name, value)
+
+
+@dataclass(frozen=True)
+class Segment:
+    """Straight edge from ``start`` to ``end``; material on the left, outward normal right."""
+
+    start: Point
+    end: Point
+
+    def __post_init__(self) -> None:
+        _set(
+            self,
+            start=_point("start", self.start, "Segment: "),
+            end=_point("end", self.end, "Segment: "),
+        )
+        if self.start == self.end:
+            raise ValueError(f"Segment: start and end coincide at {self.start}")
+
+    @property
+    def length(self) -> float:
+        return math.hypot(self.end[0] - self.start[0], self.end[1] - self.start[1])
+
+    @property
+    def normal(self) -> Point:
+        dx, dy = self.end[0] - self.start[0], self.end[1] - self.start[1]
+        length = math.hypot(dx, dy)
+        return (dy / length, -dx / length)
+
+    # the path interface of every edge: traversal end points and the outward normals there
+    first = property(lambda self: self.start)
+    last = property(lambda self: self.end)
+
+    def normal_first(self) -> Point:
+        return self.normal
+
+    normal_last = normal_first
+
+    def translated(self, dx: float, dy: float) -> Segment:
+        (x0, y0), (x1, y1) = self.start, self.end
+        return Segment((x0 + dx, y0 + dy), (x1 + dx, y1 + dy))
+
+
+@dataclass(frozen=True)
+class Arc:
+    """Circular edge ``centre + |radius| (cos a, sin a)``, ``a`` from ``start_angle`` to
+    ``end_angle`` counter-clockwise.  ``radius > 0``: convex, traversed start -> end;
+    ``radius < 0``: concave (material outside the circle), traversed end -> start."""
+
+    centre: Point
+    radius: float
+    start_angle: float
+    end_angle: float
+
+    def __post_init__(self) -> None:
+        r = _number("radius", self.radius, where="Arc: ")
+        if r == 0.0:
+            raise ValueError("Arc: radius must be non-zero (negative = concave), got 0.0")
+        a0 = _number("start_angle", self.start_angle, where="Arc: ")
+        a1 = _number("end_angle", self.end_angle, where="Arc: ")
+        if not 0.0 < a1 - a0 <= TAU * (1 + 1e-12):
+            raise ValueError(f"Arc: end_angle - start_angle must be in (0, 2 pi], got {a1 - a0!r}")
+        centre = _point("centre", self.centre, "Arc: ")
+        _set(self, centre=centre, radius=r, start_angle=a0, end_angle=min(a1, a0 + TAU))
+
+    @property
+    def convex(self) -> bool:
+        return self.radius > 0
+
+    @property
+    def span(self) -> float:
+        """Angular width, counter-clockwise from ``start_angle``."""
+        return self.end_angle - self.start_angle
+
+    @property
+    def full(self) -> bool:
+        return self.span >= TAU
+
+    def contains_angle(self, angle: float, slack: float = 0.0) -> bool:
+        """Whether the direction ``angle`` (seen from the centre) lies in the span, widened by
+        ``slack`` radians at both ends."""
+        d = (angle - self.start_angle) % TAU
+        return d <= self.span + slack or d >= TAU - slack
+
+    def point(self, angle: float) -> Point:
+        r = abs(self.radius)
+        return (self.centre[0] + r * math.cos(angle), self.centre[1] + r * math.sin(angle))
+
+    def normal_at(self, angle: float) -> Point:
+        """Outward normal of the body at the arc point ``angle``."""
+        s = 1.0 if self.radius > 0 else -1.0
+        return (s * math.cos(angle), s * math.sin(angle))
+
+    @property
+    def end_points(self) -> tuple[Point, Point]:
+        """``(point(start_angle), point(end_angle))``: the span's ends, not traversal order."""
+        return self.point(self.start_angle), self.point(self.end_angle)
+
+    def _ends(self) -> tuple[float, float]:  # angles of the first and last point traversed
+        a0, a1 = self.start_angle, self.end_angle
+        return (a0, a1) if self.radius > 0 else (a1, a0)
+
+    first = property(lambda self: self.point(self._ends()[0]))
+    last = property(lambda self: self.point(self._ends()[1]))
+
+    def normal_first(self) -> Point:
+        return self.normal_at(self._ends()[0])
+
+    def normal_last(self) -> Point:
+        return self.normal_at(self._ends()[1])
+
+    def translated(self, dx: float, dy: float) -> Arc:
+        c = (self.centre[0] + dx, self.centre[1] + dy)
+        return Arc(c, self.radius, self.start_angle, self.end_angle)
+
+
+@dataclass(frozen=True)
+class Ellipse:
+    """A whole convex elliptic boundary ``centre + R(angle) (a cos t, b sin t)``.
+
+    Contacts against it use the circular kernels with the osculating circle at the contact
+    point (:meth:`osculating`), as docs/conventions.md prescribes for oval edges."""
+
+    centre: Point
+    a: float
+    b: float
+    angle: float = 0.0
+
+    def __post_init__(self) -> None:
+        w = "Ellipse: "
+        _set(self, centre=_point("centre", self.centre, w), a=_number("a", self.a, positive=True, where=w),
+             b=_number("b", self.b, positive=True, where=w), angle=_number("angle", self.angle, where=w))  # fmt: skip
+
+    def point(self, t: float) -> Point:
+        c, s = math.cos(self.angle), math.sin(self.angle)
+        x, y = self.a * math.cos(t), self.b * math.sin(t)
+        return (self.centre[0] + c * x - s * y, self.centre[1] + s * x + c * y)
+
+    def osculating(self, t: float) -> tuple[Point, float]:
+        """Centre (body coordinates) and radius of the osculating circle at parameter ``t``."""
+        a, b, ct, st = self.a, self.b, math.cos(t), math.sin(t)
+        x, y = (a * a - b * b) / a * ct**3, (b * b - a * a) / b * st**3
+        rho = (a * a * st * st + b * b * ct * ct) ** 1.5 / (a * b)
+        c, s = math.cos(self.angle), math.sin(self.angle)
+        return (self.centre[0] + c * x - s * y, self.centre[1] + s * x + c * y), rho
+
+    first = last = property(lambda self: self.point(0.0))
+
+    def translated(self, dx: float, dy: float) -> Ellipse:
+        return Ellipse((self.centre[0] + dx, self.centre[1] + dy), self.a, self.b, self.angle)
+
+
+Edge = Segment | Arc | Ellipse
+
+
+def _arc_terms(arc: Arc, ox: float, oy: float) -> tuple[float, float, float, float]:
+    """Green's-theorem integrals (A, A Cx, A Cy, J) of an arc about the point ``o``."""
+    h, k, R = arc.centre[0] - ox, arc.centre[1] - oy, abs(arc.radius)
+    a0, a1 = arc.start_angle, arc.end_angle
+
+    def dif(f):  # f(a1) - f(a0)
+        return f(a1) - f(a0)
+
+    s1 = dif(math.sin)  # int cos
+    c1 = -dif(math.cos)  # int sin
+    c2 = dif(lambda t: t / 2 + math.sin(2 * t) / 4)  # int cos^2
+    s2 = dif(lambda t: t / 2 - math.sin(2 * t) / 4)  # int sin^2
+    c3 = dif(lambda t: math.sin(t) - math.sin(t) ** 3 / 3)  # int cos^3
+    s3 = dif(lambda t: -math.cos(t) + math.cos(t) ** 3 / 3)  # int sin^3
+    c4 = dif(lambda t: 3 * t / 8 + math.sin(2 * t) / 4 + math.sin(4 * t) / 32)  # int cos^4
+    s4 = dif(lambda t: 3 * t / 8 - math.sin(2 * t) / 4 + math.sin(4 * t) / 32)  # int sin^4
+    area = 0.5 * (R * R * (a1 - a0) + h * R * s1 + k * R * c1)
+    mx = 0.5 * R * (h * h * s1 + 2 * h * R * c2 + R * R * c3)
+    my = 0.5 * R * (k * k * c1 + 2 * k * R * s2 + R * R * s3)
+    jj = (R / 3) * (
+        h**3 * s1 + 3 * h * h * R * c2 + 3 * h * R * R * c3 + R**3 * c4
+        + k**3 * c1 + 3 * k * k * R * s2 + 3 * k * R * R * s3 + R**3 * s4
+    )  # fmt: skip
+    sign = 1.0 if arc.convex else -1.0
+    return sign * area, sign * mx, sign * my, sign * jj
+
+
+def _edge_terms(edge: Edge, ox: float, oy: float) -> tuple[float, float, float, float]:
+    if isinstance(edge, Segment):
+        x0, y0 = edge.start[0] - ox, edge.start[1] - oy
+        x1, y1 = edge.end[0] - ox, edge.end[1] - oy
+        dx, dy = x1 - x0, y1 - y0
+        area = 0.5 * (x0 * y1 - x1 * y0)
+        mx = dy * (x0 * x0 + x0 * x1 + x1 * x1) / 6
+        my = -dx * (y0 * y0 + y0 * y1 + y1 * y1) / 6
+        jj = (dy * (x0 + x1) * (x0 * x0 + x1 * x1) - dx * (y0 + y1) * (y0 * y0 + y1 * y1)) / 12
+        return area, mx, my, jj
+    if isinstance(edge, Arc):
+        return _arc_terms(edge, ox, oy)
+    h, k, area = edge.centre[0] - ox, edge.centre[1] - oy, math.pi * edge.a * edge.b
+    jj = area * ((edge.a**2 + edge.b**2) / 4 + h * h + k * k)
+    return area, area * h, area * k, jj
+
+
+@dataclass(frozen=True)
+class Shape:
+    """A body's boundary in body coordinates.
+
+    ``edges``: the boundary, material on the left (closed: counter-clockwise; ``closed=False``
+    for an open chain such as a wall or a bowl, which bounds no area).  ``vertices``: the
+    corner points, the only points that take part in contacts as "vertex" features.  Mass
+    properties (per unit density) are those of the region a closed boundary encloses; an open
+    chain has area, centroid and second moment zero."""
+
+    edges: tuple[Edge, ...]
+    vertices: tuple[Point, ...] = ()
+    closed: bool = True
+    area: float = field(init=False)
+    centroid: Point = field(init=False)
+    second_moment: float = field(init=False)
+    bounding_radius: float = field(init=False)
+    _cache: dict = field(init=False, repr=False, compare=False, default_factory=dict)
+
+    def __post_init__(self) -> None:
+        edges = tuple(self.edges)
+        if not edges or not all(isinstance(e, Segment | Arc | Ellipse) for e in edges):
+            raise ValueError(f"Shape: edges must be a non-empty sequence of edges, got {edges!r}")
+        object.__setattr__(self, "edges", edges)
+        verts = tuple(_point(f"vertices[{i}]", v, "Shape: ") for i, v in enumerate(self.vertices))
+        object.__setattr__(self, "vertices", verts)
+        area, cx, cy, jc = 0.0, 0.0, 0.0, 0.0
+        if self.closed:
+            ox, oy = edges[0].first
+            terms = [_edge_terms(e, ox, oy) for e in edges]
+            area = math.fsum(t[0] for t in terms)
+            if not area > 0:
+                raise ValueError(
+                    f"Shape: a closed boundary must enclose a positive area counter-clockwise, "
+                    f"got area {area!r}"
+                )
+            mx, my = math.fsum(t[1] for t in terms) / area, math.fsum(t[2] for t in terms) / area
+            cx, cy = ox + mx, oy + my
+            jc = math.fsum(t[3] for t in terms) - area * (mx * mx + my * my)
+        radius = max(_farthest(e) for e in edges)
+        _set(self, area=area, centroid=(cx, cy), second_moment=jc, bounding_radius=radius)
+
+    def translated(self, dx: float, dy: float) -> Shape:
+        edges = tuple(e.translated(dx, dy) for e in self.edges)
+        verts = tuple((x + dx, y + dy) for x, y in self.vertices)
+        return Shape(edges, verts, self.closed)
+
+    def centred(self) -> tuple[Shape, Point]:
+        """``(shape, offset)``: the shape moved so its centroid is the origin, and ``offset``,
+        the old coordinates of the new origin (the centroid).  An open chain is returned
+        unchanged with offset ``(0, 0)``."""
+        if not self.closed:
+            return self, (0.0, 0.0)
+        cx, cy = self.centroid
+        return self.translated(-cx, -cy), (cx, cy)
+
+
+def _farthest(edge: Edge) -> float:
+    """Largest distance of the edge's points from the origin."""
+    if isinstance(edge, Segment):
+        return max(math.hypot(*edge.start), math.hypot(*edge.end))
+    if isinstance(edge, Ellipse):
+        return math.hypot(*edge.centre) + max(edge.a, edge.b)
+    cx, cy = edge.centre
+    if edge.contains_angle(math.atan2(cy, cx)) or (cx == 0.0 and cy == 0.0):
+        return math.hypot(cx, cy) + abs(edge.radius)
+    return max(math.hypot(*p) for p in edge.end_points)
+
+
+def _turn(n_in: Point, n_out: Point) -> float:
+    """Signed angle from the normal ``n_in`` to ``n_out`` (> 0: convex corner)."""
+    return math.atan2(
+        n_in[0] * n_out[1] - n_in[1] * n_out[0], n_in[0] * n_out[0] + n_in[1] * n_out[1]
+    )
+
+
+def shape_from_edges(
+    edges: Sequence[Edge], *, closed: bool = True, end_vertices: bool = False
+) -> Shape:
+    """A shape from edges in traversal order (material on the left); checks that consecutive
+    edges meet and finds the vertices: convex corners (the tangent turns left) and, with
+    ``end_vertices``, the two ends of an open chain.  Reflex corners are not vertices: no body
+    can touch them from outside."""
+    edges = tuple(edges)
+    if not edges:
+        raise ValueError("shape_from_edges: edges must not be empty")
+    if any(isinstance(e, Ellipse) for e in edges) and (len(edges) > 1 or not closed):
+        raise ValueError("shape_from_edges: an Ellipse must be the only edge of a closed shape")
+    scale = max(_farthest(e) for e in edges) or 1.0
+    n = len(edges)
+    verts: list[Point] = []
+    if not closed and end_vertices:
+        verts.append(edges[0].first)
+    for k in range(0 if closed else 1, n):  # the join at the start of edge k
+        i, e_in, e_out = (k - 1) % n, edges[k - 1], edges[k]
+        if isinstance(e_in, Ellipse):
+            continue
+        p, q = e_in.last, e_out.first
+        if math.hypot(p[0] - q[0], p[1] - q[1]) > _JOIN * scale:
+            raise ValueError(f"shape_from_edges: edge {i} ends at {p} but edge {k} starts at {q}")
+        if _turn(e_in.normal_last(), e_out.normal_first()) > _JOIN:
+            verts.append(q)
+    if not closed and end_vertices:
+        verts.append(edges[-1].last)
+    return Shape(edges, tuple(verts), closed)
+
+
+def _chain(points: list[Point], closed: bool) -> list[Segment]:
+    m = len(points)
+    return [Segment(points[i], points[(i + 1) % m]) for i in range(m if closed else m - 1)]
+
+
+def polygon(points: Sequence[Sequence[float]]) -> Shape:
+    """Convex polygon from its corners (counter-clockwise or clockwise; normalised to
+    counter-clockwise).  Rejects repeated, collinear and reflex corners and self-intersection,
+    naming the offending vertex (index into ``points``)."""
+    try:
+        pts = [_point(f"points[{i}]", p, "polygon: ") for i, p in enumerate(points)]
+    except TypeError:
+        raise ValueError(f"polygon: points must be a sequence of (x, y), got {points!r}") from None
+    m = len(pts)
+    if m < 3:
+        raise ValueError(f"polygon: points needs at least 3 vertices, got {m}")
+    index = list(range(m))
+    twice_area = sum(pts[i - 1][0] * pts[i][1] - pts[i][0] * pts[i - 1][1] for i in range(m))
+    if twice_area < 0:  # reverse, keeping the first point first
+        pts, index = pts[:1] + pts[:0:-1], index[:1] + index[:0:-1]
+    scale = max(math.hypot(x - pts[0][0], y - pts[0][1]) for x, y in pts)
+    for i in range(m):
+        if math.hypot(pts[i][0] - pts[i - 1][0], pts[i][1] - pts[i - 1][1]) <= _JOIN * scale:
+            raise ValueError(f"polygon: points repeat at vertex {index[i]} {pts[i]}")
+    turning = 0.0
+    for i in range(m):
+        (ax, ay), (bx, by), (cx, cy) = pts[i - 1], pts[i], pts[(i + 1) % m]
+        where = f"vertex {index[i]} {pts[i]}"
+        cross = (bx - ax) * (cy - by) - (by - ay) * (cx - bx)
+        if cross <= _JOIN * scale * scale:
+            kind = "collinear" if abs(cross) <= _JOIN * scale * scale else "reflex (not convex)"
+            raise ValueError(f"polygon: points must be strictly convex; {where} is {kind}")
+        turning += math.atan2(cross, (bx - ax) * (cx - bx) + (by - ay) * (cy - by))
+        if turning > TAU * (1 + 1e-9):
+            raise ValueError(f"polygon: points are self-intersecting (winding again at {where})")
+    return shape_from_edges(_chain(pts, True))
+
+
+def disc(radius: float) -> Shape:
+    """Disc centred at the origin: one full convex arc, no vertices."""
+    r = _number("radius", radius, positive=True, where="disc: ")
+    return Shape((Arc((0.0, 0.0), r, 0.0, TAU),))
+
+
+def rounded_rect(width: float, height: float, corner_radius: float) -> Shape:
+    """Rectangle centred at the origin with quarter-circle corners (no vertices);
+    ``corner_radius = 0`` gives the plain rectangle (4 vertices)."""
+    w = _number("width", width, positive=True, where="rounded_rect: ")
+    h = _number("height", height, positive=True, where="rounded_rect: ")
+    r = _number("corner_radius", corner_radius, where="rounded_rect: ")
+    if not 0 <= r <= min(w, h) / 2:
+        raise ValueError(
+            f"rounded_rect: corner_radius must be in [0, min(width, height)/2 = {min(w, h) / 2!r}]"
+            f", got {r!r}"
+        )
+    hx, hy = w / 2, h / 2
+    if r == 0:
+        return polygon([(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)])
+    ax, ay, q = hx - r, hy - r, math.pi / 2
+    edges: list[Edge] = []
+    for k, ((sx, sy), (ex, ey)) in enumerate(
+        [
+            ((-ax, -hy), (ax, -hy)),
+            ((hx, -ay), (hx, ay)),
+            ((ax, hy), (-ax, hy)),
+            ((-hx, ay), (-hx, -ay)),
+        ]
+    ):
+        if (sx, sy) != (ex, ey):
+            edges.append(Segment((sx, sy), (ex, ey)))
+        centre = ((ax, -ay), (ax, ay), (-ax, ay), (-ax, -ay))[k]
+        edges.append(Arc(centre, r, (k - 1) * q, k * q))
+    return shape_from_edges(edges)
+
+
+def half_disc(radius: float) -> Shape:
+    """Upper half disc; the arc's centre is the origin, the flat side lies on y = 0; two
+    vertices at (+-radius, 0).  (Centroid at (0, 4 radius / (3 pi)).)"""
+    r = _number("radius", radius, positive=True, where="half_disc: ")
+    return shape_from_edges([Segment((-r, 0.0), (r, 0.0)), Arc((0.0, 0.0), r, 0.0, math.pi)])
+
+
+def d_shape(width: float, height: float) -> Shape:
+    """A "D": flat back on x = -(width - height/2) with straight top and bottom running into a
+    semicircular front of radius height/2 centred at the origin.  Vertices: the two back corners
+    (the straight sides join the arc tangentially).  ``width = height/2`` is a half disc."""
+    w = _number("width", width, positive=True, where="d_shape: ")
+    h = _number("height", height, positive=True, where="d_shape: ")
+    r = h / 2
+    if w < r:
+        raise ValueError(f"d_shape: width must be >= {r!r} (the front's radius), got {w!r}")
+    back = -(w - r)
+    edges: list[Edge] = [Arc((0.0, 0.0), r, -math.pi / 2, math.pi / 2)]
+    if back < 0:
+        edges.append(Segment((0.0, r), (back, r)))
+    edges.append(Segment((back, r), (back, -r)))
+    if back < 0:
+        edges.append(Segment((back, -r), (0.0, -r)))
+    return shape_from_edges(edges)
+
+
+def ellipse(a: float, b: float) -> Shape:
+    """Ellipse centred at the origin with semi-axes ``a`` (along x) and ``b`` (along y)."""
+    a = _number("a", a, positive=True, where="ellipse: ")
+    b = _number("b", b, positive=True, where="ellipse: ")
+    return Shape((Ellipse((0.0, 0.0), a, b),))
+
+
+def segment_chain(
+    points: Sequence[Sequence[float]], *, closed: bool = False, end_vertices: bool = False
+) -> Shape:
+    """Straight-edged chain through ``points`` with the material on the RIGHT when walking
+    from the first point to the last (a floor drawn left to right has material below)."""
+    pts = [_point(f"points[{i}]", p, "segment_chain: ") for i, p in enumerate(points)]
+    if len(pts) < 2:
+        raise ValueError(f"segment_chain: points needs at least 2 points, got {len(pts)}")
+    for i in range(1, len(pts)):
+        if pts[i] == pts[i - 1]:
+            raise ValueError(f"segment_chain: points[{i}] repeats points[{i - 1}] = {pts[i]}")
+    pts.reverse()
+    return shape_from_edges(_chain(pts, closed), closed=closed, end_vertices=end_vertices)
+
+
+def wall(start: Sequence[float], end: Sequence[float], *, end_vertices: bool = False) -> Shape:
+    """Fixed straight wall, material on the right of ``start -> end`` (a half-plane locally).
+    Its ends are vertices only with ``end_vertices`` (then bodies can tip over them)."""
+    s, e = _point("start", start, "wall: "), _point("end", end, "wall: ")
+    if s == e:
+        raise ValueError(f"wall: start and end must differ, both are {s}")
+    return segment_chain([s, e], end_vertices=end_vertices)
+
+
+def bowl(
+    radius: float, start_angle: float, end_angle: float, *, end_vertices: bool = False
+) -> Shape:
+    """Fixed concave arc (radius stored negative) centred at the origin covering the angles
+    ``start_angle -> end_angle`` counter-clockwise; bodies rest inside.  A full turn is a
+    closed circular container; otherwise the rim points are vertices only with
+    ``end_vertices``."""
+    r = _number("radius", radius, positive=True, where="bowl: ")
+    a0 = _number("start_angle", start_angle, where="bowl: ")
+    a1 = _number("end_angle", end_angle, where="bowl: ")
+    if not 0 < a1 - a0 <= TAU * (1 + 1e-12):
+        raise ValueError(
+            f"bowl: end_angle must exceed the start angle {a0!r} by at most 2 pi, got {a1!r}"
+        )
+    arc = Arc((0.0, 0.0), -r, a0, a1)
+    if arc.full:
+        return Shape((arc,), (), closed=False)
+    return shape_from_edges([arc], closed=False, end_vertices=end_vertices)
+
+
+def box_walls(width: float, height: float, *, end_vertices: bool = False) -> Shape:
+    """Fixed open-top container: floor on y = 0 from x = -width/2 to width/2 and two side
+    walls up to y = height, facing inwards (three segments, an open chain)."""
+    w = _number("width", width, positive=True, where="box_walls: ")
+    h = _number("height", height, positive=True, where="box_walls: ")
+    pts = [(-w / 2, h), (-w / 2, 0.0), (w / 2, 0.0), (w / 2, h)]
+    return segment_chain(pts, end_vertices=end_vertices)

@@ -32,13 +32,17 @@ _SPIN_RATES = (ACCELERATION[2], ACCELERATION[5])
 
 
 class Hypot(sp.Function):
-    """|(a, b)| printed as numpy.hypot: no overflow or underflow for radii from 1e-6 to 1e6."""
+    """|(a, b)|, printed as sqrt(a*a + b*b).
+
+    numpy.hypot guards against overflow and underflow beyond 1e+-154, far outside any scene (radii
+    1e-6 to 1e6), and costs 5x the square root (bench/README.md), so the kernels use the root.
+    """
 
     nargs = 2
 
     def _numpycode(self, printer) -> str:
         a, b = (printer._print(arg) for arg in self.args)
-        return f"{printer._module_format('numpy.hypot')}({a}, {b})"
+        return f"{printer._module_format('numpy.sqrt')}({a} * {a} + {b} * {b})"
 
     def _latex(self, printer) -> str:
         a, b = (printer._print(arg) for arg in self.args)

@@ -119,7 +119,9 @@ def gap(*, x1, y1, th1, x2, y2, th2, cx1, cy1, r1, ex2, ey2, nx2, ny2):
     n_x = e0 * nx2 - e1 * ny2
     n_y = e0 * ny2 + e1 * nx2
     v_x = cx1 * e2 - cy1 * e3 + dx - e0 * ex2 + e1 * ey2
+    del dx
     v_y = cx1 * e3 + cy1 * e2 + dy - e0 * ey2 - e1 * ex2
+    del dy, e0, e1, e2, e3
     return n_x * v_x + n_y * v_y - r1
 
 
@@ -141,17 +143,25 @@ def gap_velocity(
     e7 = cx1 * e5 - cy1 * e6
     e8 = e1 * ex2
     e9 = e0 * ey2
+    del e0
     e10 = cx1 * e6 + cy1 * e5
+    del e5, e6
     dx = x1 - x2
     dy = y1 - y2
     n_x = e2
     n_y = e3
     n_x_t = -e3 * w2
+    del e3
     n_y_t = e2 * w2
+    del e2
     v_x = dx + e1 * ey2 - e4 + e7
+    del dx
     v_y = dy + e10 - e8 - e9
+    del dy
     v_x_t = -e10 * w1 + vx1 - vx2 + w2 * (e8 + e9)
+    del e10, e8, e9
     v_y_t = e7 * w1 + vy1 - vy2 + w2 * (e1 * ey2 - e4)
+    del e1, e4, e7
     return n_x * v_x_t + n_x_t * v_x + n_y * v_y_t + n_y_t * v_y
 
 
@@ -199,7 +209,9 @@ def gap_acceleration(
     e9 = cx1 * e7 - cy1 * e8
     e10 = e1 * ex2
     e11 = e0 * ey2
+    del e0
     e12 = cx1 * e8 + cy1 * e7
+    del e7, e8
     e13 = e10 + e11
     e14 = -e12
     e15 = -e1 * ey2 + e6
@@ -209,16 +221,22 @@ def gap_acceleration(
     dy = y1 - y2
     n_x = e2
     n_y = e3
+    del e3
     n_x_t = e4 * w2
     n_y_t = e2 * w2
     n_x_tt = al2 * e4 - e2 * e5
     n_y_tt = al2 * e2 + e4 * e5
+    del e2, e4
     v_x = dx + e1 * ey2 - e6 + e9
+    del dx, e1, e6
     v_y = dy - e10 - e11 + e12
+    del dy, e10, e11, e12
     v_x_t = e13 * w2 + e14 * w1 + vx1 - vx2
     v_y_t = e16 * w2 + e9 * w1 + vy1 - vy2
     v_x_tt = al1 * e14 + al2 * e13 + ax1 - ax2 + e15 * e5 - e17 * e9
+    del e15
     v_y_tt = al1 * e9 + al2 * e16 + ay1 - ay2 + e13 * e5 + e14 * e17
+    del e13, e14, e16, e17, e5, e9
     return (
         n_x * v_x_tt
         + 2 * n_x_t * v_x_t
@@ -245,14 +263,19 @@ def jacobian(*, x1, y1, th1, x2, y2, th2, cx1, cy1, ex2, ey2, nx2, ny2):
     e7 = np.sin(th1)
     e8 = cx1 * e6 - cy1 * e7
     e9 = e1 * ex2
+    del e1
     e10 = e0 * ey2
+    del e0
     e11 = cx1 * e7 + cy1 * e6
+    del e6, e7
     dx = x1 - x2
     dy = y1 - y2
     n_x = e2
     n_y = e3
     v_x = dx + e4 - e5 + e8
+    del dx
     v_y = dy - e10 + e11 - e9
+    del dy
     return (
         n_x,
         n_y,
@@ -281,7 +304,9 @@ def bias(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, cx1, cy1, ex2,
     e9 = cx1 * e7 - cy1 * e8
     e10 = e1 * ex2
     e11 = e0 * ey2
+    del e0
     e12 = cx1 * e8 + cy1 * e7
+    del e7, e8
     e13 = e10 + e11
     e14 = -e12
     e15 = -e1 * ey2 + e6
@@ -290,16 +315,23 @@ def bias(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, cx1, cy1, ex2,
     dy = y1 - y2
     n_x = e2
     n_y = e3
+    del e3
     n_x_t = e4 * w2
     n_y_t = e2 * w2
     n_x_tt = -e2 * e5
+    del e2
     n_y_tt = e4 * e5
+    del e4
     v_x = dx + e1 * ey2 - e6 + e9
+    del dx, e1, e6
     v_y = dy - e10 - e11 + e12
+    del dy, e10, e11, e12
     v_x_t = e13 * w2 + e14 * w1 + vx1 - vx2
     v_y_t = -e15 * w2 + e9 * w1 + vy1 - vy2
     v_x_tt = e15 * e5 - e16 * e9
+    del e15, e9
     v_y_tt = e13 * e5 + e14 * e16
+    del e13, e14, e16, e5
     return (
         n_x * v_x_tt
         + 2 * n_x_t * v_x_t
@@ -322,8 +354,10 @@ def gap_velocity_static2(*, th1, vx1, vy1, w1, th2, cx1, cy1, nx2, ny2):
     e3 = np.cos(th1)
     n_x = e0 * nx2 - e1 * ny2
     n_y = e0 * ny2 + e1 * nx2
+    del e0, e1
     v_x_t = vx1 + w1 * (-cx1 * e2 - cy1 * e3)
     v_y_t = vy1 + w1 * (cx1 * e3 - cy1 * e2)
+    del e2, e3
     return n_x * v_x_t + n_y * v_y_t
 
 
@@ -340,10 +374,13 @@ def gap_acceleration_static2(*, th1, w1, ax1, ay1, al1, th2, cx1, cy1, nx2, ny2)
     e4 = -cx1 * e2 - cy1 * e3
     e5 = w1 * w1
     e6 = cx1 * e3 - cy1 * e2
+    del e2, e3
     n_x = e0 * nx2 - e1 * ny2
     n_y = e0 * ny2 + e1 * nx2
+    del e0, e1
     v_x_tt = al1 * e4 + ax1 - e5 * e6
     v_y_tt = al1 * e6 + ay1 + e4 * e5
+    del e4, e5, e6
     return n_x * v_x_tt + n_y * v_y_tt
 
 
@@ -359,6 +396,7 @@ def jacobian_static2(*, th1, th2, cx1, cy1, nx2, ny2):
     e3 = np.cos(th1)
     n_x = e0 * nx2 - e1 * ny2
     n_y = e0 * ny2 + e1 * nx2
+    del e0, e1
     return n_x, n_y, -n_x * (cx1 * e2 + cy1 * e3) + n_y * (cx1 * e3 - cy1 * e2)
 
 
@@ -375,6 +413,8 @@ def bias_static2(*, th1, w1, th2, cx1, cy1, nx2, ny2):
     e4 = np.sin(th1)
     n_x = e0 * nx2 - e1 * ny2
     n_y = e0 * ny2 + e1 * nx2
+    del e0, e1
     v_x_tt = e2 * (-cx1 * e3 + cy1 * e4)
     v_y_tt = e2 * (-cx1 * e4 - cy1 * e3)
+    del e2, e3, e4
     return n_x * v_x_tt + n_y * v_y_tt

@@ -152,8 +152,11 @@ def gap(*, x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = -cx2 * e2 + cy2 * e0 + dx + e1 * px1 - e3 * py1
+    del dx
     v_y = -cx2 * e0 - cy2 * e2 + dy + e1 * py1 + e3 * px1
-    v_len = np.hypot(v_x, v_y)
+    del dy, e0, e1, e2, e3
+    v_len = np.sqrt(v_x * v_x + v_y * v_y)
+    del v_x, v_y
     return -r2 + sg2 * v_len
 
 
@@ -171,15 +174,21 @@ def gap_velocity(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, p
     e5 = e3 * px1 - e4 * py1
     e6 = cx2 * e0
     e7 = cy2 * e1
+    del e1
     e8 = e3 * py1 + e4 * px1
+    del e3, e4
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = cy2 * e0 + dx - e2 + e5
+    del dx
     v_y = dy - e6 - e7 + e8
-    v_len = np.hypot(v_x, v_y)
+    del dy
+    v_len = np.sqrt(v_x * v_x + v_y * v_y)
     v_x_t = -e8 * w1 + vx1 - vx2 + w2 * (e6 + e7)
+    del e6, e7, e8
     v_y_t = e5 * w1 + vy1 - vy2 + w2 * (cy2 * e0 - e2)
+    del e0, e2, e5
     return sg2 * (v_x * v_x_t + v_y * v_y_t) / v_len
 
 
@@ -222,7 +231,9 @@ def gap_acceleration(
     e5 = e3 * px1 - e4 * py1
     e6 = cx2 * e0
     e7 = cy2 * e1
+    del e1
     e8 = e3 * py1 + e4 * px1
+    del e3, e4
     e9 = e6 + e7
     e10 = -e8
     e11 = -cy2 * e0 + e2
@@ -233,14 +244,20 @@ def gap_acceleration(
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = cy2 * e0 + dx - e2 + e5
+    del dx, e0, e2
     v_y = dy - e6 - e7 + e8
-    v_len = np.hypot(v_x, v_y)
+    del dy, e6, e7, e8
+    v_len = np.sqrt(v_x * v_x + v_y * v_y)
     e13 = 1 / v_len
+    del v_len
     v_x_t = e10 * w1 + e9 * w2 + vx1 - vx2
     v_y_t = e12 * w2 + e5 * w1 + vy1 - vy2
     v_tan = e13 * (v_x * v_y_t - v_x_t * v_y)
+    del v_x_t, v_y_t
     v_x_tt = al1 * e10 + al2 * e9 + ax1 - ax2 + e11 * e15 - e14 * e5
+    del e11
     v_y_tt = al1 * e5 + al2 * e12 + ay1 - ay2 + e10 * e14 + e15 * e9
+    del e10, e12, e14, e15, e5, e9
     return sg2 * (e13 * v_tan * v_tan + e13 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
@@ -258,15 +275,21 @@ def jacobian(*, x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     e5 = np.sin(th1)
     e6 = e4 * px1 - e5 * py1
     e7 = cx2 * e0
+    del e0
     e8 = cy2 * e2
+    del e2
     e9 = e4 * py1 + e5 * px1
+    del e4, e5
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = dx + e1 - e3 + e6
+    del dx
     v_y = dy - e7 - e8 + e9
-    v_len = np.hypot(v_x, v_y)
+    del dy
+    v_len = np.sqrt(v_x * v_x + v_y * v_y)
     e10 = sg2 / v_len
+    del sg2, v_len
     e11 = e10 * v_x
     e12 = e10 * v_y
     return (
@@ -293,7 +316,9 @@ def bias(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, cx2,
     e5 = e3 * px1 - e4 * py1
     e6 = cx2 * e0
     e7 = cy2 * e1
+    del e1
     e8 = e3 * py1 + e4 * px1
+    del e3, e4
     e9 = e6 + e7
     e10 = -e8
     e11 = -cy2 * e0 + e2
@@ -303,14 +328,20 @@ def bias(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, cx2,
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = cy2 * e0 + dx - e2 + e5
+    del dx, e0, e2
     v_y = dy - e6 - e7 + e8
-    v_len = np.hypot(v_x, v_y)
+    del dy, e6, e7, e8
+    v_len = np.sqrt(v_x * v_x + v_y * v_y)
     e12 = 1 / v_len
+    del v_len
     v_x_t = e10 * w1 + e9 * w2 + vx1 - vx2
     v_y_t = -e11 * w2 + e5 * w1 + vy1 - vy2
     v_tan = e12 * (v_x * v_y_t - v_x_t * v_y)
+    del v_x_t, v_y_t
     v_x_tt = e11 * e14 - e13 * e5
+    del e11, e5
     v_y_tt = e10 * e13 + e14 * e9
+    del e10, e13, e14, e9
     return sg2 * (e12 * v_tan * v_tan + e12 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
@@ -326,14 +357,19 @@ def gap_velocity_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, cx
     e3 = np.sin(th1)
     e4 = e2 * px1 - e3 * py1
     e5 = e2 * py1 + e3 * px1
+    del e2, e3
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = -cx2 * e1 + cy2 * e0 + dx + e4
+    del dx
     v_y = -cx2 * e0 - cy2 * e1 + dy + e5
-    v_len = np.hypot(v_x, v_y)
+    del dy, e0, e1
+    v_len = np.sqrt(v_x * v_x + v_y * v_y)
     v_x_t = -e5 * w1 + vx1
+    del e5
     v_y_t = e4 * w1 + vy1
+    del e4
     return sg2 * (v_x * v_x_t + v_y * v_y_t) / v_len
 
 
@@ -351,20 +387,26 @@ def gap_acceleration_static2(
     e3 = np.sin(th1)
     e4 = e2 * px1 - e3 * py1
     e5 = e2 * py1 + e3 * px1
+    del e2, e3
     e6 = -e5
     e8 = w1 * w1
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = -cx2 * e1 + cy2 * e0 + dx + e4
+    del dx
     v_y = -cx2 * e0 - cy2 * e1 + dy + e5
-    v_len = np.hypot(v_x, v_y)
+    del dy, e0, e1, e5
+    v_len = np.sqrt(v_x * v_x + v_y * v_y)
     e7 = 1 / v_len
+    del v_len
     v_x_t = e6 * w1 + vx1
     v_y_t = e4 * w1 + vy1
     v_tan = e7 * (v_x * v_y_t - v_x_t * v_y)
+    del v_x_t, v_y_t
     v_x_tt = al1 * e6 + ax1 - e4 * e8
     v_y_tt = al1 * e4 + ay1 + e6 * e8
+    del e4, e6, e8
     return sg2 * (e7 * v_tan * v_tan + e7 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
@@ -380,13 +422,17 @@ def jacobian_static2(*, x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     e3 = np.sin(th1)
     e4 = e2 * px1 - e3 * py1
     e5 = e2 * py1 + e3 * px1
+    del e2, e3
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = -cx2 * e1 + cy2 * e0 + dx + e4
+    del dx
     v_y = -cx2 * e0 - cy2 * e1 + dy + e5
-    v_len = np.hypot(v_x, v_y)
+    del dy, e0, e1
+    v_len = np.sqrt(v_x * v_x + v_y * v_y)
     e6 = sg2 / v_len
+    del sg2, v_len
     return e6 * v_x, e6 * v_y, e6 * (e4 * v_y - e5 * v_x)
 
 
@@ -402,18 +448,25 @@ def bias_static2(*, x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, cx2, cy2, 
     e3 = np.sin(th1)
     e4 = e2 * px1 - e3 * py1
     e5 = e2 * py1 + e3 * px1
+    del e2, e3
     e6 = -e5
     e8 = w1 * w1
     dx = x1 - x2
     dy = y1 - y2
     sg2 = np.copysign(1.0, r2)
     v_x = -cx2 * e1 + cy2 * e0 + dx + e4
+    del dx
     v_y = -cx2 * e0 - cy2 * e1 + dy + e5
-    v_len = np.hypot(v_x, v_y)
+    del dy, e0, e1, e5
+    v_len = np.sqrt(v_x * v_x + v_y * v_y)
     e7 = 1 / v_len
+    del v_len
     v_x_t = e6 * w1 + vx1
     v_y_t = e4 * w1 + vy1
     v_tan = e7 * (v_x * v_y_t - v_x_t * v_y)
+    del v_x_t, v_y_t
     v_x_tt = -e4 * e8
+    del e4
     v_y_tt = e6 * e8
+    del e6, e8
     return sg2 * (e7 * v_tan * v_tan + e7 * (v_x * v_x_tt + v_y * v_y_tt))

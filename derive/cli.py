@@ -17,6 +17,10 @@ def _parse_cases(text: str | None) -> list[str]:
     if not text:
         return list(ALL_CASES)
     names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise SystemExit(
+            f"regenerate-equations: --cases names no case; valid cases: {', '.join(ALL_CASES)}"
+        )
     unknown = [n for n in names if n not in ALL_CASES]
     if unknown:
         raise SystemExit(

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from runtime import contacts as _contacts
+from runtime import narrowphase as _narrowphase
 from runtime.scene_overlap import deepest_overlap
 from runtime.scene_validation import (
     SCENE_KEYS,
@@ -318,8 +319,42 @@ def scene_from_dict(
         simulation=simulation,
         source=source,
     )
+    _check_tolerances(scene, scene_table)
     _check_overlaps(scene)
     return scene
+
+
+# A tolerance may be at most this fraction of the half-width of the thinnest moving body.
+TOLERANCE_FRACTION = 0.5
+
+
+def _check_tolerances(scene: Scene, table: Table) -> None:
+    """The contact and overlap tolerances are absolute lengths (defaults 1e-4 m and 1e-9 m):
+    against a small body they stop being small.  A contact tolerance near a body's size holds
+    resting bodies visibly apart (a resting contact is kept up to that gap), and an overlap
+    tolerance near it lets overlapping bodies start; both are refused, naming the body."""
+    moving = [(k, b) for k, b in enumerate(scene.bodies) if not b.fixed]
+    if not moving:
+        return
+    widths = [(float(_narrowphase.table(b.shape).half_width), k) for k, b in moving]
+    half, k = min(widths)
+    limit = TOLERANCE_FRACTION * half
+    label = body_label(k, scene.bodies[k].name)
+    for key, value, effect in (
+        ("contact_tolerance", scene.contact_tolerance, "would hold resting bodies that far apart"),
+        (
+            "overlap_tolerance",
+            scene.overlap_tolerance,
+            "would let bodies start that deep inside each other",
+        ),  # fmt: skip
+    ):
+        if value > limit:
+            given = "" if table.has(key) else " (the default)"
+            table.fail(
+                key,
+                f"{value:g} m{given} is too large for {label}, half-width {half:.6g} m: it "
+                f"{effect}; set it to at most {limit:.3g} m (half that half-width)",
+            )
 
 
 def _check_overlaps(scene: Scene) -> None:

@@ -43,6 +43,15 @@ class SceneError(ValueError):
     """Invalid scene input; the message names the file, the body and the field."""
 
 
+# Magnitudes: every number read (but masses, densities and inertias, whose products are checked
+# instead) lies within [-LARGEST, LARGEST], and a positive one is at least SMALLEST. Beyond
+# these, squares and fourth powers (areas, second moments, kinetic energies, squared distances)
+# over- or underflow double precision, and the shapes module's own checks (convexity, areas)
+# would report nonsense such as "collinear" for a huge triangle.
+LARGEST = 1e50
+SMALLEST = 1e-50
+
+
 TOP_LEVEL_KEYS = ("scene", "simulation", "body")
 SCENE_KEYS = ("name", "description", "gravity", "contact_tolerance", "overlap_tolerance")
 SIMULATION_KEYS = ("duration", "dt", "method", "stabilisation")
@@ -160,14 +169,22 @@ class Table:
         return default
 
     # -- typed readers ------------------------------------------------------------------
-    def number(self, key: str, default: Any = None, *, check: str = "finite") -> float:
-        """A finite float; ``check`` is "finite", "positive", "nonnegative" or "unit"."""
-        return self.check_number(key, self._get(key, default), check)
+    def number(
+        self, key: str, default: Any = None, *, check: str = "finite", bounded: bool = True
+    ) -> float:
+        """A finite float; ``check`` is "finite", "positive", "nonnegative" or "unit";
+        ``bounded``: also within [-LARGEST, LARGEST] and, if positive, at least SMALLEST."""
+        return self.check_number(key, self._get(key, default), check, bounded=bounded)
 
-    def check_number(self, key: str, value: Any, check: str = "finite") -> float:
+    def check_number(
+        self, key: str, value: Any, check: str = "finite", *, bounded: bool = True
+    ) -> float:
         if not _is_number(value):
             self.fail(key, f"expected a number, got {_describe(value)}")
-        x = float(value)
+        try:
+            x = float(value)
+        except OverflowError:  # a Python int beyond the float range
+            self.fail(key, f"must be finite, got {_describe(value)}")
         if not math.isfinite(x):
             self.fail(key, f"must be finite, got {x}")
         if check == "positive" and not x > 0:
@@ -176,6 +193,10 @@ class Table:
             self.fail(key, f"must be >= 0, got {x}")
         if check == "unit" and not 0 <= x <= 1:
             self.fail(key, f"must be between 0 and 1, got {x}")
+        if bounded and abs(x) > LARGEST:
+            self.fail(key, f"must be at most {LARGEST:g} in magnitude, got {x:g}")
+        if bounded and check == "positive" and x < SMALLEST:
+            self.fail(key, f"must be at least {SMALLEST:g}, got {x:g}")
         return x
 
     def vector(self, key: str, default: Any = None) -> tuple[float, float]:
@@ -196,7 +217,16 @@ class Table:
             self.fail(
                 key, f"expected a list of at least 3 points [[x, y], ...], got {_describe(value)}"
             )
-        return [self.check_vector(f"{key}[{i}]", p) for i, p in enumerate(value)]
+        points = [self.check_vector(f"{key}[{i}]", p) for i, p in enumerate(value)]
+        for i, p in enumerate(points):
+            if p in points[:i]:
+                j = points.index(p)
+                self.fail(f"{key}[{i}]", f"repeats point {j}, {list(p)}; corners must be distinct")
+        span = max(max(x for x, _ in points) - min(x for x, _ in points),
+                   max(y for _, y in points) - min(y for _, y in points))  # fmt: skip
+        if span < SMALLEST:
+            self.fail(key, f"the points span only {span:g}; they must span at least {SMALLEST:g}")
+        return points
 
     def string(self, key: str, default: Any = None) -> str:
         value = self._get(key, default)
@@ -309,6 +339,8 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
         shape = getattr(_shapes, kind)(**kwargs)
     except ValueError as exc:
         table.fail(_shape_field(str(exc), kwargs), str(exc))
+    except ArithmeticError as exc:  # e.g. OverflowError from math.* on extreme sizes
+        table.fail("shape", f"{kind}: its size is out of range ({exc})")
     spec: dict[str, Any] = {
         "name": name,
         "shape": shape,
@@ -331,7 +363,7 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
     if not (table.has("mass") or table.has("density")):
         table.fail("mass", "missing required field: a moving body needs 'mass' or 'density'")
     for key in ("mass", "density", "inertia"):
-        spec[key] = table.number(key, check="positive") if table.has(key) else None
+        spec[key] = table.number(key, check="positive", bounded=False) if table.has(key) else None
     area = float(shape.area)
     if not (math.isfinite(area) and area > 0):
         table.fail("shape", f"a moving body needs a shape with area > 0, got area {area}")
@@ -339,7 +371,47 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
         table.fail("shape", "a concave edge on a moving body is not supported; make it fixed")
     spec["velocity"] = table.vector("velocity", (0.0, 0.0))
     spec["angular_velocity"] = table.number("angular_velocity", 0.0)
+    _check_mass_properties(table, spec, shape)
     return spec
+
+
+def _check_mass_properties(table: Table, spec: Mapping[str, Any], shape: Any) -> None:
+    """Mass and inertia (given, or from density x area and mass x second moment / area) must be
+    positive with finite inverses (the engine uses 1/m and 1/I), and the body's kinetic energy
+    finite: otherwise the first step would produce inf or NaN."""
+    area, second_moment = float(shape.area), float(shape.second_moment)
+    with np.errstate(all="ignore"):
+        mass = spec["mass"] if spec["mass"] is not None else spec["density"] * area
+        inertia = spec["inertia"]
+        if inertia is None:
+            inertia = mass * second_moment / area
+        vx, vy = spec["velocity"]
+        w = spec["angular_velocity"]
+        linear, angular = 0.5 * mass * (vx * vx + vy * vy), 0.5 * inertia * w * w
+
+    def usable(x: float) -> bool:
+        return math.isfinite(x) and x > 0 and math.isfinite(1.0 / x)
+
+    need = "must be finite and > 0 with a finite inverse"
+    if not usable(mass):
+        if spec["mass"] is not None:
+            table.fail("mass", f"{need} (1/mass), got {mass:g}")
+        table.fail("density", f"gives the mass density x area = {mass:g} kg, which {need}")
+    if not usable(inertia):
+        if spec["inertia"] is not None:
+            table.fail("inertia", f"{need} (1/inertia), got {inertia:g}")
+        given = "mass" if spec["mass"] is not None else "density"
+        table.fail(
+            given,
+            f"gives the inertia mass x second moment / area = {inertia:g} kg m^2, which {need}; "
+            "give 'inertia' or change the mass or size",
+        )
+    if not math.isfinite(linear):
+        table.fail("velocity", f"the kinetic energy 1/2 m v^2 overflows (mass {mass:g} kg)")
+    if not math.isfinite(angular):
+        table.fail(
+            "angular_velocity", f"the kinetic energy 1/2 I w^2 overflows (inertia {inertia:g})"
+        )
 
 
 def _shape_field(message: str, kwargs: Mapping[str, Any]) -> str:

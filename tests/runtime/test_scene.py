@@ -33,6 +33,8 @@ TOUCHING = {
     "d_shape_rolling": [("d", "floor")],
     "disc_in_v": [("disc", "left"), ("disc", "right")],
     "box_on_floor": [("box", "floor")],
+    "ball_drop": [],
+    "wall_shot": [],
 }
 
 

@@ -1,0 +1,356 @@
+"""Exact and high-precision references for the work-precision report, and the errors against them.
+
+Both engines (ours in runtime/, pymunk in bench/peers.py) are reduced to the same `Trajectory`
+of the one moving body, and every error is measured here by the same code, so a difference in
+the report is a difference of the engines and not of the bookkeeping.
+
+The references are built from the scene files (radii, initial state, gravity read from the
+`Scene`), so a tweak of a scene moves its reference with it:
+
+- disc in a bowl: a pendulum of length L = R - r, phi'' = -(g/L) sin phi, solved by scipy's
+  DOP853 at rtol 1e-12 (frictionless: the disc does not turn); normal force m (g cos phi + L phi'^2);
+- disc on an incline: closed form, it slides with g sin(slope) along the wall;
+- disc over a cylinder: an inverted pendulum of length R + r until the normal force
+  m (g cos phi - (R + r) phi'^2) vanishes, then a parabola; the leaving angle has the closed form
+  cos phi = (2/3) cos phi0 + v0^2 / (3 g (R + r));
+- plank on a cylinder: no closed form; energy is conserved (frictionless, no impacts).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+ODE_RTOL = 1e-12  # the pendulum references: far below any error the report measures
+ODE_ATOL = 1e-14
+
+
+@dataclass
+class Trajectory:
+    """One run of one scene by either engine, as the error measures need it.
+
+    `pose`/`velocity` are those of the moving body's centre of mass, `force` the magnitude of
+    the total contact force on it at each recorded time as the engine reports it (0 without
+    contact, NaN where the engine has none to report: pymunk before its first step),
+    `penetration` the deepest overlap seen (m) and `wall_time` the seconds the stepping took.
+    """
+
+    engine: str  # "ours" or "pymunk"
+    method: str  # line of the diagram: "rk4", "pymunk N=64", ...
+    setting: str  # the swept parameter of this point: "dt=0.01", "rtol=1e-06", ...
+    t: np.ndarray  # (K,)
+    pose: np.ndarray  # (K, 3): x, y, th
+    velocity: np.ndarray  # (K, 3): vx, vy, w
+    force: np.ndarray  # (K,)
+    penetration: float
+    wall_time: float
+
+
+@dataclass(frozen=True)
+class MovingBody:
+    """Mass properties and initial state of the scene's one moving body."""
+
+    mass: float
+    inertia: float
+    position: np.ndarray
+    velocity: np.ndarray
+    radius: float | None  # for a disc
+
+
+def moving_body(scene) -> MovingBody:
+    """The single non-fixed body of `scene` (every report scene has exactly one)."""
+    (body,) = [b for b in scene.bodies if not b.fixed]
+    edges = body.shape.edges
+    radius = edges[0].radius if len(edges) == 1 and hasattr(edges[0], "radius") else None
+    return MovingBody(
+        body.mass,
+        body.inertia,
+        np.array(body.position, dtype=float),
+        np.array(body.velocity, dtype=float),
+        radius,
+    )
+
+
+def fixed_arc(scene) -> tuple[np.ndarray, float]:
+    """(world centre, signed radius) of the circular edge of the scene's fixed body."""
+    (body,) = [b for b in scene.bodies if b.fixed]
+    (arc,) = body.shape.edges
+    c, s = math.cos(body.angle), math.sin(body.angle)
+    centre = np.array(body.position) + np.array(
+        [c * arc.centre[0] - s * arc.centre[1], s * arc.centre[0] + c * arc.centre[1]]
+    )
+    return centre, arc.radius
+
+
+def gravity(scene) -> float:
+    """|g|; the references assume gravity along -y, as in every shipped scene."""
+    gx, gy = scene.gravity
+    if gx != 0.0 or gy >= 0.0:
+        raise ValueError(f"the references need gravity along -y, got {scene.gravity}")
+    return -gy
+
+
+def energy_height(scene, traj: Trajectory) -> np.ndarray:
+    """Mechanical energy over m g, in metres: a drift reads as a height gained or lost.
+
+    Dividing by the weight makes scenes with a 31 kg disc and a 1 kg plank comparable, and
+    puts the energy error on the same scale as the position errors.
+    """
+    body = moving_body(scene)
+    g = gravity(scene)
+    v = traj.velocity
+    kinetic = 0.5 * body.mass * (v[:, 0] ** 2 + v[:, 1] ** 2) + 0.5 * body.inertia * v[:, 2] ** 2
+    return kinetic / (body.mass * g) + traj.pose[:, 1]
+
+
+def energy_drift(scene, traj: Trajectory) -> float:
+    """max |E(t) - E(0)| / (m g), metres."""
+    e = energy_height(scene, traj)
+    return float(np.max(np.abs(e - e[0])))
+
+
+def dropped_share(traj: Trajectory) -> float:
+    """Share of the steps (after t = 0) at which the engine reports no contact force although
+    the body never leaves the surface: a contact held by impacts instead of a resting force."""
+    force = traj.force[1:]
+    return float(np.mean(force == 0.0)) if force.size else math.nan
+
+
+def _finite(value: float) -> float:
+    """NaN (a run that lost the body) counts as an infinite error."""
+    return value if np.isfinite(value) else math.inf
+
+
+class Reference:
+    """A scene with the errors of a run against its reference; `primary` is the headline one."""
+
+    primary: str = "position"
+    curved: bool = True  # does the scene test a curved edge (the project's target)?
+    units: dict[str, str] = {}
+
+    def __init__(self, scene, duration: float):
+        self.scene = scene
+        self.duration = duration
+
+    def errors(self, traj: Trajectory) -> dict[str, float]:
+        raise NotImplementedError
+
+
+class BowlReference(Reference):
+    """Disc in a bowl: max position error (m), energy drift, force error (max and rms over the
+    steps, in units of mg), the share of steps without contact force, penetration."""
+
+    primary = "position"
+    units = {
+        "position": "m",
+        "energy": "m",
+        "force": "× mg",
+        "force_rms": "× mg",
+        "dropped": "share",
+        "penetration": "m",
+    }
+
+    def __init__(self, scene, duration: float):
+        super().__init__(scene, duration)
+        body = moving_body(scene)
+        self.centre, radius = fixed_arc(scene)
+        self.length = abs(radius) - body.radius
+        self.g = gravity(scene)
+        self.mass = body.mass
+        rel = body.position - self.centre
+        phi0 = math.atan2(rel[0], -rel[1])
+        dphi0 = float(body.velocity @ [math.cos(phi0), math.sin(phi0)]) / self.length
+        self.solution = solve_ivp(
+            self._rhs,
+            (0.0, duration),
+            [phi0, dphi0],
+            method="DOP853",
+            rtol=ODE_RTOL,
+            atol=ODE_ATOL,
+            dense_output=True,
+        )
+
+    def _rhs(self, _t: float, y: np.ndarray) -> list[float]:
+        return [y[1], -self.g / self.length * math.sin(y[0])]
+
+    def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(centre positions (K, 2), velocities (K, 2), normal force (K,)) at times t."""
+        phi, dphi = self.solution.sol(t)
+        s, c = np.sin(phi), np.cos(phi)
+        pos = self.centre + self.length * np.c_[s, -c]
+        vel = self.length * dphi[:, None] * np.c_[c, s]
+        force = self.mass * (self.g * c + self.length * dphi**2)
+        return pos, vel, force
+
+    def errors(self, traj: Trajectory) -> dict[str, float]:
+        pos, _, force = self.state(traj.t)
+        dev = np.abs(traj.force - force) / (self.mass * self.g)
+        return {
+            "position": _finite(np.max(np.linalg.norm(traj.pose[:, :2] - pos, axis=1))),
+            "energy": _finite(energy_drift(self.scene, traj)),
+            "force": _finite(np.nanmax(dev)),
+            "force_rms": _finite(np.sqrt(np.nanmean(dev**2))),
+            "dropped": dropped_share(traj),
+            "penetration": traj.penetration,
+        }
+
+
+class InclineReference(Reference):
+    """Disc on an incline (straight edge, the control): position, energy, force, penetration."""
+
+    primary = "position"
+    curved = False
+    units = {
+        "position": "m",
+        "energy": "m",
+        "force": "× mg",
+        "dropped": "share",
+        "penetration": "m",
+    }
+
+    def __init__(self, scene, duration: float):
+        super().__init__(scene, duration)
+        body = moving_body(scene)
+        (wall,) = [b for b in scene.bodies if b.fixed]
+        (segment,) = wall.shape.edges
+        along = np.subtract(segment.end, segment.start) / segment.length
+        g_vec = np.asarray(scene.gravity, dtype=float)
+        self.acceleration = float(g_vec @ along) * along  # gravity along the slope
+        self.normal_force = body.mass * abs(float(g_vec @ [along[1], -along[0]]))
+        self.start, self.v0 = body.position, body.velocity
+        self.weight = body.mass * gravity(scene)
+
+    def position(self, t: np.ndarray) -> np.ndarray:
+        return self.start + np.outer(t, self.v0) + 0.5 * np.outer(t**2, self.acceleration)
+
+    def errors(self, traj: Trajectory) -> dict[str, float]:
+        err = np.linalg.norm(traj.pose[:, :2] - self.position(traj.t), axis=1)
+        return {
+            "position": _finite(np.max(err)),
+            "energy": _finite(energy_drift(self.scene, traj)),
+            "force": _finite(np.nanmax(np.abs(traj.force - self.normal_force)) / self.weight),
+            "dropped": dropped_share(traj),
+            "penetration": traj.penetration,
+        }
+
+
+class CylinderReference(Reference):
+    """Disc sliding over a cylinder: leaving-angle error (rad), position, energy, penetration."""
+
+    primary = "leaving_angle"
+    units = {"leaving_angle": "rad", "position": "m", "energy": "m", "penetration": "m"}
+
+    def __init__(self, scene, duration: float):
+        super().__init__(scene, duration)
+        body = moving_body(scene)
+        self.centre, radius = fixed_arc(scene)
+        self.length = radius + body.radius
+        self.g = gravity(scene)
+        rel = body.position - self.centre
+        phi0 = math.atan2(rel[0], rel[1])  # from the top, clockwise
+        tangent = np.array([math.cos(phi0), -math.sin(phi0)])
+        dphi0 = float(body.velocity @ tangent) / self.length
+        v0 = self.length * dphi0
+        self.leaving_angle = math.acos(
+            2.0 / 3.0 * math.cos(phi0) + v0**2 / (3.0 * self.g * self.length)
+        )
+        self._on_cylinder = self._solve_on_cylinder(phi0, dphi0)
+
+    def _normal_force_per_mass(self, phi: float, dphi: float) -> float:
+        return self.g * math.cos(phi) - self.length * dphi**2
+
+    def _solve_on_cylinder(self, phi0: float, dphi0: float):
+        """Inverted pendulum until the normal force vanishes (an event of the ODE)."""
+
+        def leaves(_t, y):
+            return self._normal_force_per_mass(y[0], y[1])
+
+        leaves.terminal = True
+        sol = solve_ivp(
+            lambda _t, y: [y[1], self.g / self.length * math.sin(y[0])],
+            (0.0, self.duration),
+            [phi0, dphi0],
+            method="DOP853",
+            rtol=ODE_RTOL,
+            atol=ODE_ATOL,
+            dense_output=True,
+            events=leaves,
+        )
+        if not sol.t_events[0].size:
+            raise ValueError("the disc does not leave the cylinder within the duration")
+        self.leaving_time = float(sol.t_events[0][0])
+        phi, dphi = sol.y_events[0][0]
+        if abs(phi - self.leaving_angle) > 1e-8:  # the ODE agrees with the closed form
+            raise AssertionError(f"leaving angle: ODE {phi}, closed form {self.leaving_angle}")
+        return sol
+
+    def position(self, t: np.ndarray) -> np.ndarray:
+        """Centre of the disc: on the circle before leaving, on a parabola after."""
+        t = np.asarray(t, dtype=float)
+        out = np.empty((t.size, 2))
+        before = t <= self.leaving_time
+        phi = self._on_cylinder.sol(t[before])[0]
+        out[before] = self.centre + self.length * np.c_[np.sin(phi), np.cos(phi)]
+        phi_l, dphi_l = self._on_cylinder.sol(self.leaving_time)
+        p_l = self.centre + self.length * np.array([math.sin(phi_l), math.cos(phi_l)])
+        v_l = self.length * dphi_l * np.array([math.cos(phi_l), -math.sin(phi_l)])
+        tau = t[~before] - self.leaving_time
+        out[~before] = p_l + np.outer(tau, v_l) + 0.5 * np.outer(tau**2, [0.0, -self.g])
+        return out
+
+    def measured_leaving_angle(self, traj: Trajectory) -> float:
+        """The angle where the run's contact force reaches 0.
+
+        The force is a smooth function of phi up to the moment the disc leaves, so the zero of
+        the parabola through the last three samples with force (the line through the last two
+        when there are only two) is accurate to third (second) order in the sample spacing, and
+        the step at which the engine drops the contact does not matter. The zero is kept inside
+        the bracket [last sample with force, first sample without], which is all a force that
+        comes and goes (pymunk's) can tell.
+        """
+        rel = traj.pose[:, :2] - self.centre
+        phi = np.arctan2(rel[:, 0], rel[:, 1])
+        touching = np.flatnonzero(traj.force > 0.0)
+        if touching.size == 0 or touching[-1] + 1 >= len(phi):
+            return math.nan  # never touched, or never left
+        i = touching[-1]
+        lo, hi = sorted((phi[i], phi[i + 1]))
+        run = 1  # samples with force in a row, ending at i
+        while run < 3 and i - run >= 0 and traj.force[i - run] > 0.0:
+            run += 1
+        if run == 1:
+            return float(phi[i])
+        x, f = phi[i - run + 1 : i + 1], traj.force[i - run + 1 : i + 1]
+        if np.ptp(x) == 0.0:
+            return float(phi[i])
+        roots = np.roots(np.polyfit(x - phi[i], f, run - 1)) + phi[i]
+        roots = roots[np.isreal(roots)].real
+        if roots.size == 0:
+            return float(phi[i])
+        zero = roots[np.argmin(np.abs(roots - phi[i]))]  # the zero next to the last sample
+        return float(np.clip(zero, lo, hi))
+
+    def errors(self, traj: Trajectory) -> dict[str, float]:
+        err = np.linalg.norm(traj.pose[:, :2] - self.position(traj.t), axis=1)
+        return {
+            "leaving_angle": _finite(abs(self.measured_leaving_angle(traj) - self.leaving_angle)),
+            "position": _finite(np.max(err)),
+            "energy": _finite(energy_drift(self.scene, traj)),
+            "penetration": traj.penetration,
+        }
+
+
+class PlankReference(Reference):
+    """Plank on a cylinder: energy drift (the only reference there is) and penetration."""
+
+    primary = "energy"
+    units = {"energy": "m", "penetration": "m"}
+
+    def errors(self, traj: Trajectory) -> dict[str, float]:
+        return {
+            "energy": _finite(energy_drift(self.scene, traj)),
+            "penetration": traj.penetration,
+        }

@@ -1,0 +1,212 @@
+"""Fuzz tests: random valid scenes never crash, lose data or blow up; random bad input always
+gets a SceneError.
+
+The strategies and the checks are in tests/strategies.py (shared with bench/soak.py, which runs
+the same checks for minutes). Here every test runs with a fixed seed (``derandomize=True``) and
+a bounded number of examples, so CI sees the same scenes every time and the file takes well under
+two minutes (about 30 s on the 2-core CI machine; bench/soak.py is the long, random version).
+
+Properties of a run of a random valid scene (1-4 discs, convex polygons, rounded rectangles and
+half discs of sizes 1e-3 .. 1e3 m, on a floor or in a box, see strategies.drawn_scenes):
+
+* loading never fails (the scene is valid; a SceneError is a generator bug);
+* simulate raises nothing but SimulationError, whose message names the step and the time and
+  whose ``.state`` is finite;
+* no NaN or inf anywhere in what was recorded, and no NumPy RuntimeWarning on the way;
+* energy never grows by more than ``ENERGY_BOUND`` (1e-6) times the scene's energy scale
+  (sum of m (V^2 + g (height + L)), V a bound on the speeds): there is no friction and
+  restitution <= 1, so any growth is integration or impact error (RK4 and midpoint only:
+  explicit Euler gains energy in free fall by construction);
+* penetration, measured at every recorded step by the exact contact gaps and by sampled
+  boundary points (which also catch contacts too deep for the contact finder), stays below
+  ``PENETRATION_BOUND`` (1e-3) half-widths of the thinnest body, and no centre of mass ends up
+  below the floor or outside the box (tunnelling);
+* a second run of the same scene gives a bitwise identical trajectory, in the same process
+  and in two fresh interpreters with different hash seeds.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import strategies as S
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import runtime
+from runtime.scene import SceneError, load_scene, scene_from_dict
+
+
+def fuzz(examples: int) -> settings:
+    """Fixed seed, bounded examples, no deadline (a run takes 10-500 ms), no example database
+    (CI starts clean; the seed makes the examples the same anyway)."""
+    return settings(
+        derandomize=True,
+        max_examples=examples,
+        deadline=None,
+        database=None,
+        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+    )
+
+
+def _explain(report: S.Report) -> str:
+    return f"{report.failures('simulation')}\nscene: {report.drawn.data!r}"
+
+
+# -- random valid scenes ----------------------------------------------------------------------
+
+
+@fuzz(120)
+@given(S.drawn_scenes())
+def test_random_scenes_run_without_crash_nan_energy_growth_or_penetration(drawn):
+    report = S.check_scene(drawn)
+    assert not report.failures("simulation"), _explain(report)
+
+
+@fuzz(30)
+@given(S.drawn_scenes(elastic=True, method="rk4", steps=(20, 40)))
+def test_elastic_scene_energy_stays_within_the_bound(drawn):
+    """Frictionless, restitution 1, RK4: E(t) <= E(0) + 1e-6 x the energy scale."""
+    report = S.check_scene(drawn)
+    assert not report.failures("simulation"), _explain(report)
+    if report.run is not None and report.run.t:
+        energy = np.asarray(report.run.energy)
+        assert np.max(energy - energy[0]) <= S.ENERGY_BOUND * drawn.energy_scale
+
+
+@fuzz(15)
+@given(S.drawn_scenes(max_bodies=3))
+def test_runs_are_bitwise_reproducible(drawn):
+    runs = []
+    for _ in range(2):
+        scene = scene_from_dict(drawn.data, source="fuzz")
+        try:
+            runs.append(runtime.simulate(scene))
+        except runtime.SimulationError as exc:
+            runs.append(exc.run)
+    first, second = (r.arrays() for r in runs)
+    assert first.keys() == second.keys()
+    for key in first:
+        a, b = np.asarray(first[key]), np.asarray(second[key])
+        assert a.shape == b.shape and a.tobytes() == b.tobytes(), key  # bitwise, NaN and -0 too
+    assert runs[0].rhs_evaluations == runs[1].rhs_evaluations
+
+
+_DIGEST = """
+import hashlib, sys, numpy as np, runtime
+run = runtime.simulate(runtime.load_scene(sys.argv[1]), duration=0.25)
+digest = hashlib.sha256()
+for key, values in sorted(run.arrays().items()):
+    digest.update(key.encode() + np.ascontiguousarray(values).tobytes())
+print(digest.hexdigest(), len(run.impact_times))
+"""
+
+
+def test_runs_are_bitwise_reproducible_across_processes():
+    """The same scene in two fresh interpreters with different hash seeds (set and dict order
+    of anything keyed by str) gives the same bytes: 20 discs dropping into a box, 13 impacts."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    outputs = []
+    for seed in ("1", "2"):
+        done = subprocess.run(
+            [sys.executable, "-c", _DIGEST, str(root / "scenes" / "disc_pile.toml")],
+            cwd=root,
+            env={"PYTHONHASHSEED": seed, "PATH": str(Path(sys.executable).parent)},
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+        outputs.append(done.stdout.split())
+    assert outputs[0] == outputs[1]
+    assert int(outputs[0][1]) > 0  # the run has impacts, not just free fall
+
+
+def test_the_strategy_spans_six_orders_of_magnitude_and_every_shape():
+    """The examples above come from this range: both ends and every shape kind are reached."""
+    seen: list[S.Drawn] = []
+
+    @fuzz(300)
+    @given(S.drawn_scenes())
+    def collect(drawn):
+        seen.append(drawn)
+
+    collect()
+    scales = [d.scale for d in seen]
+    assert 1e-3 <= min(scales) < 3e-3 and 3e2 < max(scales) <= 1e3
+    kinds = {b["shape"]["type"] for d in seen for b in d.bodies[1:]}
+    assert kinds == set(S.SHAPE_KINDS)
+    assert {d.environment for d in seen} == set(S.ENVIRONMENTS)
+    assert {d.data["simulation"]["method"] for d in seen} == set(S.METHODS)
+    assert max(len(d.bodies) - 1 for d in seen) == 4
+
+
+# -- random bad input -----------------------------------------------------------------------
+
+
+def _scene_error_is_well_formed(message: str, source: str) -> None:
+    assert message.startswith(f"{source}: "), message
+    assert "\n" not in message, message
+    assert "field '" in message or "expected a table" in message, message
+
+
+@fuzz(200)
+@given(S.mutated_scenes())
+def test_mutated_scene_gets_a_scene_error_or_runs_cleanly(case):
+    """One value replaced (NaN, inf, negative, extreme, wrong type), one key added or removed:
+    the loader raises SceneError naming the source and the field, or, if the scene is still
+    valid, a few steps run without any exception but SimulationError and without NaN."""
+    data, what = case
+    try:
+        scene = scene_from_dict(data, source="mutant")
+    except SceneError as exc:
+        assert exc.__cause__ is None and exc.__suppress_context__, what
+        _scene_error_is_well_formed(str(exc), "mutant")
+        return
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            run = runtime.simulate(scene, duration=3 * scene.simulation.dt)
+        except runtime.SimulationError as exc:
+            run = exc.run
+    assert not [w for w in caught if issubclass(w.category, RuntimeWarning)], (what, caught)
+    for key, values in run.arrays().items():
+        if key != "min_gap":  # +inf there means "no contact"
+            assert np.all(np.isfinite(values)), (what, key)
+
+
+@fuzz(100)
+@given(st.binary(max_size=300) | st.text(max_size=300).map(lambda t: t.encode()))
+def test_any_file_content_gets_a_scene_error_or_loads(tmp_path_factory, content):
+    path = tmp_path_factory.mktemp("fuzz") / "random.toml"
+    path.write_bytes(content)
+    try:
+        load_scene(path)
+    except SceneError as exc:
+        assert str(exc).startswith(f"{path}: ") and "\n" not in str(exc)
+
+
+@fuzz(100)
+@given(
+    st.recursive(
+        st.none() | st.booleans() | st.floats() | st.integers() | st.text(max_size=8),
+        lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner),
+        max_leaves=12,
+    )
+)
+def test_any_value_in_any_body_field_gets_a_scene_error(value):
+    """Every body field and shape parameter, given an arbitrary TOML-like value."""
+    base = {"name": "b", "shape": {"type": "disc", "radius": 0.1}, "density": 1.0,
+            "position": [0.0, 1.0]}  # fmt: skip
+    for key in (*sorted(base), "mass", "inertia", "angle", "velocity", "restitution", "fixed"):
+        for where in ("body", "shape"):
+            body = {**base, "shape": dict(base["shape"])}
+            (body if where == "body" else body["shape"])[key] = value
+            try:
+                scene_from_dict({"body": [body]}, source="any")
+            except SceneError as exc:
+                _scene_error_is_well_formed(str(exc), "any")

@@ -1,0 +1,513 @@
+"""Hypothesis strategies for random valid scenes, and the checks of a run of one.
+
+Used by tests/runtime/test_fuzz.py (CI: fixed seed, few examples) and bench/soak.py (random,
+for minutes). A scene is drawn as the plain dict that ``runtime.scene_from_dict`` takes, so it
+goes through every check a scene file gets: a scene that the loader refuses is a bug of this
+generator (or a false alarm of the loader), never bad luck.
+
+What is drawn (``drawn_scenes``):
+
+- a **scale** ``L`` from 1e-3 m to 1e3 m (six orders of magnitude): the largest body's size;
+  the other bodies' sizes lie in ``[L / 10, L]``;
+- 1 .. ``max_bodies`` moving bodies: discs, convex polygons (3-8 corners on a circle),
+  rounded rectangles (corner radius 0, i.e. a plain rectangle, included) and half discs, at
+  random angles, densities 10 .. 1e4 kg/m^2, restitution 0 .. 1 (all 1 with ``elastic=True``);
+- speeds up to ``sqrt(g L)`` and spins up to ``sqrt(g / L)`` (a quarter of the bodies at rest);
+- an **environment**: a long floor (a wall) or an open box (``box_walls``), fixed;
+- a **layout** without overlap at t = 0: the bodies stand in columns, each either resting
+  exactly on the floor (its lowest point at y = 0) or lifted by up to half its size, further
+  bodies of a column above the one below (bounding circles apart or touching);
+- the **time step** from the speeds: ``dt = travel * h / V`` with ``h`` the half-width of the
+  thinnest body and ``V`` a bound on every point speed during the run (``Drawn.speed``:
+  twice the initial speed plus the speed of a fall from the top of the layout), so no body
+  moves more than ``travel`` half-widths per step (default 0.1); 10 .. 40 steps;
+- tolerances scaled with the bodies: contact ``1e-6 h``, overlap ``1e-9 h`` (the defaults,
+  1e-4 m and 1e-9 m, are absolute and the loader refuses them for millimetre bodies).
+
+``check_scene(drawn)`` loads and runs a drawn scene and returns a ``Report``: the failures
+found by kind (see ``KINDS``), which the tests assert empty and bench/soak.py counts.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import traceback
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from hypothesis import strategies as st
+
+from runtime import shapes as _shapes
+
+G = 9.81
+SHAPE_KINDS = ("disc", "polygon", "rounded_rect", "half_disc")
+ENVIRONMENTS = ("floor", "box")
+METHODS = ("rk4", "rk4", "midpoint", "euler")  # drawn: rk4 twice as often
+TRAVEL = 0.1  # dt: a body moves at most this many half-widths of the thinnest body per step
+GAP = 0.2  # horizontal gaps between columns: up to this many body sizes
+LIFT = 0.5  # bodies not resting start up to this many body sizes above their support
+CONTACT_TOLERANCE = 1e-6  # times the half-width of the thinnest body
+OVERLAP_TOLERANCE = 1e-9  # times the half-width of the thinnest body
+
+# The bounds the properties assert (see check_run):
+ENERGY_BOUND = 1e-6  # E(t) - E(0) <= this x Drawn.energy_scale (no friction, restitution <= 1)
+PENETRATION_BOUND = 1e-3  # penetration <= this x the thinnest body's half-width
+CONSERVATIVE_METHODS = ("rk4", "midpoint", "rk45", "dop853")  # exact for free fall; not Euler
+
+
+@dataclass(frozen=True)
+class Drawn:
+    """A drawn scene (``data`` for ``scene_from_dict``) and its characteristic numbers."""
+
+    data: dict[str, Any]
+    scale: float  # L: the largest body size, m
+    thinnest: float  # h: half the smallest width of any moving body, m
+    dt: float  # the time step, s
+    speed: float  # V: a bound on every point speed during the run, m/s
+    height: float  # the top of the layout, m (the floor is y = 0)
+    environment: str  # "floor" or "box"
+    half_width: float  # half the box's width (inf for a floor), m
+    elastic: bool
+
+    @property
+    def bodies(self) -> list[dict[str, Any]]:
+        return self.data["body"]
+
+    @property
+    def energy_scale(self) -> float:
+        """Sum over the moving bodies of m (V^2 + g (height + L)): bounds |E| and its changes."""
+        total = 0.0
+        for b in self.data["body"][1:]:
+            shape = _build(b["shape"]["type"], b["shape"])
+            mass = b["density"] * shape.area
+            total += mass * (self.speed**2 + G * (self.height + self.scale))
+        return total
+
+
+def _rot(th: float, x: float, y: float) -> tuple[float, float]:
+    c, s = math.cos(th), math.sin(th)
+    return c * x - s * y, s * x + c * y
+
+
+def lowest_point(shape: _shapes.Shape, th: float) -> float:
+    """Lowest y of the shape (body coordinates) turned by ``th``: exact for segments and arcs."""
+    low = math.inf
+    for e in shape.edges:
+        if isinstance(e, _shapes.Segment):
+            low = min(low, _rot(th, *e.start)[1], _rot(th, *e.end)[1])
+        else:  # a convex arc
+            cy = _rot(th, *e.centre)[1]
+            if e.contains_angle(-math.pi / 2 - th):
+                low = min(low, cy - abs(e.radius))
+            low = min(low, *(_rot(th, *p)[1] for p in e.end_points))
+    return low
+
+
+def _shape_table(kind: str, size: float, draw_params: tuple) -> dict[str, Any]:
+    """The ``shape`` table of a body of overall size ``size`` (its diameter or longer side)."""
+    a, b, angles = draw_params
+    if kind == "disc":
+        return {"type": "disc", "radius": size / 2}
+    if kind == "half_disc":
+        return {"type": "half_disc", "radius": size / 2}
+    if kind == "rounded_rect":
+        width, height = size, size * (0.3 + 0.7 * a)
+        corner = 0.0 if b < 0.2 else 0.5 * min(width, height) * (b - 0.2) / 0.8 * 0.999
+        return {"type": "rounded_rect", "width": width, "height": height, "corner_radius": corner}
+    # polygon: corners on a circle of radius size / 2, in order, each at least 0.28 rad from
+    # the next (strictly convex; not always around the circle's centre)
+    gaps = [0.3 + g for g in angles]
+    total = sum(gaps)
+    turn = 2 * math.pi * b
+    points, phi = [], turn
+    for g in gaps:
+        points.append([size / 2 * math.cos(phi), size / 2 * math.sin(phi)])
+        phi += 2 * math.pi * g / total
+    return {"type": "polygon", "points": points}
+
+
+def _build(kind: str, table: dict[str, Any]) -> _shapes.Shape:
+    params = {k: v for k, v in table.items() if k != "type"}
+    return getattr(_shapes, kind)(**params)
+
+
+_UNIT = st.floats(0.0, 1.0)
+_SIGNED = st.floats(-1.0, 1.0)
+
+
+@st.composite
+def _body(draw, *, elastic: bool | None) -> dict[str, Any]:
+    kind = draw(st.sampled_from(SHAPE_KINDS))
+    n_corners = draw(st.integers(3, 8))
+    params = (
+        draw(_UNIT),
+        draw(_UNIT),
+        # angular gaps: well apart (>= 0.3 + 0 before scaling) and none above pi after scaling
+        draw(st.lists(st.floats(0.0, 0.6), min_size=n_corners, max_size=n_corners)),
+    )
+    return {
+        "kind": kind,
+        "params": params,
+        "size": draw(st.floats(-1.0, 0.0)),  # log10 of size / L
+        "angle": draw(st.floats(-math.pi, math.pi)),
+        "density": 10.0 ** draw(st.floats(1.0, 4.0)),
+        "restitution": 1.0 if elastic else draw(st.sampled_from([0.0, 0.5, 1.0]) | _UNIT),
+        "velocity": (draw(_SIGNED), draw(_SIGNED)),
+        "spin": draw(_SIGNED),
+        "new_column": draw(st.booleans()),
+        "resting": draw(st.booleans()),
+        "lift": draw(_UNIT),  # height above the floor or the body below, in body sizes
+        "gap": draw(_UNIT),  # horizontal gap to the previous column, in body sizes
+        "still": draw(st.integers(0, 3)) == 0,  # a quarter of the bodies start at rest
+    }
+
+
+def _half_width(shape: _shapes.Shape) -> float:
+    """Half the smallest width of a convex shape (over 360 directions, exact enough here)."""
+    pts: list = []
+    for e in shape.edges:
+        if isinstance(e, _shapes.Segment):
+            pts += [e.start, e.end]
+        else:
+            pts += [e.point(e.start_angle + e.span * i / 64) for i in range(65)]
+    angles = np.pi * np.arange(360) / 360
+    proj = np.asarray(pts) @ np.array([np.cos(angles), np.sin(angles)])
+    return 0.5 * float(np.min(proj.max(axis=0) - proj.min(axis=0)))
+
+
+@st.composite
+def drawn_scenes(
+    draw,
+    *,
+    max_bodies: int = 4,
+    elastic: bool | None = None,
+    environment: str | None = None,
+    method: str | None = None,
+    steps: int | tuple[int, int] = (10, 40),
+    log_scale: tuple[float, float] = (-3.0, 3.0),
+    travel: float = TRAVEL,
+) -> Drawn:
+    """A random valid scene with its characteristic numbers; see the module docstring.
+
+    ``elastic``: all restitutions 1 (True) or drawn (None/False); ``environment``: "floor",
+    "box" or drawn; ``method``: an integrator name or drawn from rk4/midpoint/euler;
+    ``steps``: the number of time steps of ``[simulation] duration`` (an int or a range);
+    ``travel``: the largest distance a body may move in one step, in half-widths of the
+    thinnest body (sets dt)."""
+    scale = 10.0 ** draw(st.floats(*log_scale))
+    env = environment or draw(st.sampled_from(ENVIRONMENTS))
+    elastic = bool(elastic) if elastic is not None else draw(st.booleans())
+    count = draw(st.integers(1, max_bodies))  # uniform (a list strategy favours short lists)
+    specs = [draw(_body(elastic=elastic)) for _ in range(count)]
+    n_steps = steps if isinstance(steps, int) else draw(st.integers(*steps))
+    method = method or draw(st.sampled_from(METHODS))
+
+    sizes = [scale * 10.0 ** s["size"] for s in specs]
+    sizes[0] = scale  # the largest body sets the scale
+    v_scale, w_scale = math.sqrt(G * scale), math.sqrt(G / scale)
+
+    bodies: list[dict[str, Any]] = []
+    columns: list[tuple[float, float, float]] = []  # (x, top of the last body, base's reach)
+    x_cursor = 0.0
+    speed = 0.0
+    thinnest = math.inf
+    for k, (spec, size) in enumerate(zip(specs, sizes, strict=True)):
+        kind = spec["kind"]
+        table = _shape_table(kind, size, spec["params"])
+        centred, offset = _build(kind, table).centred()
+        thinnest = min(thinnest, _half_width(centred))
+        reach = centred.bounding_radius  # about the centre of mass
+        th = spec["angle"]
+        # a body goes on top of the last column only if it is no wider than that column's base
+        if not columns or spec["new_column"] or reach > columns[-1][2]:
+            x = x_cursor + (reach if columns else 0.0) + GAP * spec["gap"] * size
+            low = lowest_point(centred, th)
+            lift = 0.0 if spec["resting"] else LIFT * spec["lift"] * size
+            y = -low + lift
+            x_cursor = x + reach
+            columns.append((x, y + reach, reach))
+        else:
+            x, top, base = columns[-1]
+            y = top + reach + (0.0 if spec["resting"] else LIFT * spec["lift"] * size)
+            x_cursor = max(x_cursor, x + reach)
+            columns[-1] = (x, y + reach, base)
+        vx, vy = (0.0, 0.0) if spec["still"] else (v_scale * spec["velocity"][0],
+                                                    v_scale * spec["velocity"][1])  # fmt: skip
+        w = 0.0 if spec["still"] else w_scale * spec["spin"]
+        speed = max(speed, math.hypot(vx, vy) + abs(w) * reach)
+        ox, oy = _rot(th, *offset)  # the shape's own origin sits at com - R(th) offset
+        origin_v = (vx + w * oy, vy - w * ox)  # v_origin = v_com + w x (origin - com)
+        bodies.append(
+            {
+                "name": f"{kind}{k + 1}",
+                "shape": table,
+                "density": spec["density"],
+                "position": [x - ox, y - oy],
+                "angle": th,
+                "velocity": list(origin_v),
+                "angular_velocity": w,
+                "restitution": spec["restitution"],
+            }
+        )
+
+    # centre the layout on x = 0 and add the environment
+    left = min(b["position"][0] for b in bodies) - 2 * scale
+    right = x_cursor + 2 * scale
+    middle = 0.5 * (left + right)
+    for b in bodies:
+        b["position"][0] -= middle
+    half = 0.5 * (right - left)
+    top = max(t for _, t, _ in columns)
+    # every point speed stays below this (energy: falling from the top, spin, and at most
+    # doubled by an elastic hit of a heavier body)
+    bound = 2.0 * (speed + math.sqrt(2.0 * G * top))
+    dt = travel * thinnest / bound
+    duration = n_steps * dt
+    if env == "floor":
+        wide = half + 10 * scale + 2 * bound * duration
+        fixed = {"name": "floor", "fixed": True,
+                 "shape": {"type": "wall", "start": [-wide, 0.0], "end": [wide, 0.0]}}  # fmt: skip
+    else:
+        height = 2.0 * (top + speed**2 / G + 2 * scale)
+        fixed = {"name": "box", "fixed": True,
+                 "shape": {"type": "box_walls", "width": 2 * half, "height": height}}  # fmt: skip
+    data = {
+        "scene": {
+            "name": f"fuzz-{env}-{len(bodies)}",
+            "contact_tolerance": CONTACT_TOLERANCE * thinnest,
+            "overlap_tolerance": OVERLAP_TOLERANCE * thinnest,
+        },
+        "simulation": {"duration": duration, "dt": dt, "method": method},
+        "body": [fixed, *bodies],
+    }
+    box_half = math.inf if env == "floor" else half
+    return Drawn(data, scale, thinnest, dt, bound, top, env, box_half, elastic)
+
+
+def scenes(**kwargs: Any) -> st.SearchStrategy[dict[str, Any]]:
+    """Random valid scene dicts (``scene_from_dict`` input); arguments as ``drawn_scenes``."""
+    return drawn_scenes(**kwargs).map(lambda d: d.data)
+
+
+# -- bad input: one mutation of a valid scene ----------------------------------------------
+
+BAD_VALUES = (
+    math.nan,
+    math.inf,
+    -math.inf,
+    -1.0,
+    0.0,
+    "1.0",
+    True,
+    None,
+    [],
+    [1.0],
+    [1.0, 2.0, 3.0],
+    {"x": 1.0},
+    [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0], [0.0, 1.0]],  # a self-intersecting polygon
+    1e300,  # extremes: squares and fourth powers overflow or underflow
+    -1e300,
+    1e-300,
+    5e-324,
+    10**400,  # a TOML integer this large is a Python int beyond the float range
+)
+
+
+@st.composite
+def mutated_scenes(draw) -> tuple[dict[str, Any], str]:
+    """A valid scene with one value replaced by a bad one, or one unknown key added, or one
+    required key removed: ``(data, description)``.  Whether the result is still valid (e.g.
+    angle = 0.0) is for the test to find out."""
+    data = draw(drawn_scenes(max_bodies=3, steps=5)).data
+    bodies = data["body"]
+    k = draw(st.integers(0, len(bodies) - 1))
+    body = bodies[k]
+    where = draw(st.sampled_from(["body", "shape", "scene", "simulation"]))
+    table = {"body": body, "shape": body["shape"], "scene": data["scene"],
+             "simulation": data["simulation"]}[where]  # fmt: skip
+    action = draw(st.sampled_from(["replace", "add", "remove"]))
+    keys = sorted(table)
+    key = draw(st.sampled_from(keys))
+    if action == "add":
+        key = draw(st.sampled_from([key + "s", key[:-1], "colour", "Position", "mass "]))
+        table[key] = 1.0
+    elif action == "remove":
+        del table[key]
+    else:
+        value = draw(st.sampled_from(BAD_VALUES))
+        if isinstance(table[key], list) and table[key] and draw(st.booleans()):
+            i = draw(st.integers(0, len(table[key]) - 1))
+            table[key][i] = value
+            key = f"{key}[{i}]"
+        else:
+            table[key] = value
+    return data, f"{action} {where} {key!r} (body #{k + 1})"
+
+
+# -- checks of a run -----------------------------------------------------------------------
+
+KINDS = {
+    "generator": "SceneError for a drawn scene (a generator bug or a false alarm of the loader)",
+    "simulation": "SimulationError (a documented failure; counted by cause)",
+    "exception": "any other exception out of load or simulate",
+    "bad-error": "a SimulationError without step/time in its message, or with a bad .state",
+    "nan": "a non-finite number in the recorded run",
+    "warning": "a NumPy RuntimeWarning (overflow, invalid value) during the run",
+    "energy": f"energy grew by more than {ENERGY_BOUND:g} x the energy scale",
+    "penetration": f"penetration deeper than {PENETRATION_BOUND:g} x the thinnest half-width",
+    "escaped": "a body's centre of mass left the floor's or box's free side",
+}
+_STEP_MESSAGE = re.compile(r"^step \d+ at t = \S+ s ")
+
+
+@dataclass
+class Report:
+    """What ``check_scene`` found: ``problems`` maps a kind of ``KINDS`` to details."""
+
+    drawn: Drawn
+    scene: Any = None
+    run: Any = None
+    error: BaseException | None = None
+    problems: dict[str, list[str]] = field(default_factory=dict)
+
+    def add(self, kind: str, detail: str) -> None:
+        self.problems.setdefault(kind, []).append(detail)
+
+    def failures(self, *ignore: str) -> dict[str, list[str]]:
+        """The problems but those of the kinds ``ignore``."""
+        return {k: v for k, v in self.problems.items() if k not in ignore}
+
+
+def simulation_cause(message: str) -> str:
+    """A short cause of a SimulationError for counting: its message without the numbers."""
+    inner = message.split("failed (", 1)[-1].split("); contacts:", 1)[0]
+    inner = message if inner == message else inner
+    inner = re.sub(r"^step \d+ at t = \S+ s ", "", inner)
+    inner = re.sub(r"[-+]?\d[\d.e+-]*", "#", inner)
+    inner = re.sub(r"\[[^\]]*\]", "[...]", inner)
+    inner = re.sub(r"'[^']*'", "'...'", inner)
+    return inner[:100]
+
+
+def check_scene(drawn: Drawn, *, source: str = "fuzz") -> Report:
+    """Load and run a drawn scene; check the properties (see ``KINDS``) of what it recorded."""
+    import runtime
+
+    report = Report(drawn)
+    try:
+        report.scene = runtime.scene_from_dict(drawn.data, source=source)
+    except runtime.SceneError as exc:
+        report.add("generator", str(exc))
+        return report
+    except Exception as exc:  # noqa: BLE001 -- counted, with its traceback
+        report.error = exc
+        report.add("exception", _summary(exc))
+        return report
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            report.run = runtime.simulate(report.scene)
+        except runtime.SimulationError as exc:
+            report.error, report.run = exc, exc.run
+            report.add("simulation", simulation_cause(str(exc)))
+            _check_error(report, exc)
+        except Exception as exc:  # noqa: BLE001
+            report.error = exc
+            report.add("exception", _summary(exc))
+            return report
+    for w in caught:
+        if issubclass(w.category, RuntimeWarning):
+            report.add("warning", f"{w.filename.rsplit('/', 1)[-1]}:{w.lineno}: {w.message}")
+    check_run(report)
+    return report
+
+
+def _summary(exc: BaseException) -> str:
+    """``Type: message`` and the innermost frames, for counting other exceptions."""
+    frames = traceback.extract_tb(exc.__traceback__)[-3:]
+    where = " <- ".join(
+        f"{f.filename.rsplit('/', 1)[-1]}:{f.lineno} {f.name}" for f in frames[::-1]
+    )
+    return f"{type(exc).__name__}: {str(exc)[:120]} [{where}]"
+
+
+def _check_error(report: Report, exc: Any) -> None:
+    """A SimulationError names the step and time, and keeps the finite state before it."""
+    n = len(report.scene.bodies)
+    if not _STEP_MESSAGE.match(str(exc)):
+        report.add("bad-error", f"message without 'step N at t = T s': {str(exc)[:120]}")
+    try:
+        poses, velocities = (np.asarray(x, dtype=float) for x in exc.state)
+    except (TypeError, ValueError):
+        report.add("bad-error", f".state is not (poses, velocities): {exc.state!r:.120}")
+        return
+    if poses.shape != (n, 3) or velocities.shape != (n, 3):
+        report.add("bad-error", f".state shapes {poses.shape}, {velocities.shape}")
+    elif not (np.all(np.isfinite(poses)) and np.all(np.isfinite(velocities))):
+        report.add("bad-error", ".state is not finite")
+
+
+def check_run(report: Report) -> None:
+    """No NaN, energy bound (conservative integrators), penetration bound, nobody escaped."""
+    drawn, scene, run = report.drawn, report.scene, report.run
+    if run is None or not run.t:
+        return
+    arrays = {
+        "t": np.asarray(run.t, dtype=float),
+        "poses": np.asarray(run.poses, dtype=float),
+        "velocities": np.asarray(run.velocities, dtype=float),
+        "energy": np.asarray(run.energy, dtype=float),
+        "contact_forces": np.concatenate([np.ravel(f) for f in run.contact_forces] or [[]]),
+    }
+    for name, values in arrays.items():
+        if not np.all(np.isfinite(values)):
+            report.add("nan", f"run.{name} has {int(np.sum(~np.isfinite(values)))} non-finite")
+    if "nan" in report.problems:
+        return
+    energy = arrays["energy"]
+    if scene.simulation.method in CONSERVATIVE_METHODS:
+        growth = float(np.max(energy - energy[0]))
+        if growth > ENERGY_BOUND * drawn.energy_scale:
+            k = int(np.argmax(energy - energy[0]))
+            report.add(
+                "energy",
+                f"E grew by {growth:.3g} J = {growth / drawn.energy_scale:.3g} x the energy "
+                f"scale at t = {arrays['t'][k]:.6g} s (step {k})",
+            )
+    depth, k, what = deepest_penetration(scene, run.poses, PENETRATION_BOUND * drawn.thinnest)
+    if depth > PENETRATION_BOUND * drawn.thinnest:
+        report.add(
+            "penetration",
+            f"{what} by {depth:.3g} m = {depth / drawn.thinnest:.3g} half-widths at "
+            f"t = {arrays['t'][k]:.6g} s (step {k})",
+        )
+    moving = ~np.asarray(scene.fixed, dtype=bool)
+    centres = arrays["poses"][:, moving, :2]
+    below = centres[..., 1] < -PENETRATION_BOUND * drawn.thinnest
+    outside = np.abs(centres[..., 0]) > drawn.half_width
+    if np.any(below | outside):
+        k, b = (int(i[0]) for i in np.nonzero(below | outside))
+        name = [body.name for body in scene.bodies if not body.fixed][b]
+        report.add("escaped", f"{name!r} at {centres[k, b].tolist()} at t = {arrays['t'][k]:.6g} s")
+
+
+def deepest_penetration(scene: Any, poses_list: Any, bound: float) -> tuple[float, int, str]:
+    """The deepest overlap over the recorded poses: the engine's own contacts (exact gaps,
+    tolerance 0) and, since those leave out implausibly deep ones, sampled boundary points
+    of one body inside another (runtime/scene_overlap.py). ``(depth, step, description)``."""
+    from runtime.scene_overlap import deepest_overlap
+
+    worst = (0.0, 0, "")
+    for k, poses in enumerate(poses_list):
+        for c in scene.find_contacts(poses, tolerance=0.0):
+            if -c.gap > worst[0]:
+                names = scene.bodies[c.body1].name, scene.bodies[c.body2].name
+                worst = (-float(c.gap), k, f"{c.case} contact {names[0]}/{names[1]}")
+        deep = deepest_overlap(scene.shapes, poses, scene.fixed, max(bound, worst[0]))
+        if deep is not None and deep[2] > worst[0]:
+            names = scene.bodies[deep[0]].name, scene.bodies[deep[1]].name
+            worst = (deep[2], k, f"{names[0]} inside {names[1]} (sampled)")
+    return worst

@@ -186,7 +186,7 @@ def _cases(x: tuple, y: tuple) -> set[str]:
     found = set()
     if (corners or ends) and segments:
         found.add("vertex_edge")
-    if corners and (y_convex or y_concave):
+    if corners and (y_convex or y_concave or y[0]):  # y[0]: corner on corner, radius 0
         found.add("vertex_circle")
     if convex and segments:
         found.add("circle_edge")

@@ -18,9 +18,10 @@ edge"): the point is found (support point, nearest or farthest point, or the sep
 direction of two convex curves) and the circle routines take over.
 
 Penetrating candidates (``gap < 0``) are kept only if plausible: no deeper than half the
-thinner body, body 1's point not outside a closed body 2, a corner's normal cone (nearly)
-containing the contact direction, and per feature against a closed body only the shallowest.
-One constraint reported from both bodies (two corners meeting) is kept once.
+thinner body; a corner's normal cone (nearly) containing the contact direction; a vertex in a
+closed body 2 inside it and not much deeper than its shallowest way out (unless nothing better
+describes the overlap); per feature against a closed body only the shallowest.  One constraint
+reported from both bodies (two corners meeting) is kept once.
 
 Positions are relative to body j's centre of mass, as the kernels compute them (``x1 - x2``
 first), so gaps keep their precision far from the origin.
@@ -37,8 +38,9 @@ from runtime.shapes import TAU, Arc, Ellipse, Segment, Shape
 
 SPAN_EPS = 1e-9  # rad, and relative length: closed spans, so flat-on-flat contacts survive
 CONE_SLACK = 0.1  # rad: how far a corner's normal cone may miss a straight edge's normal
+WAY_OUT_MARGIN = 0.05  # of the depth limit: how much deeper than its way out a vertex may be
 HALF_PI = math.pi / 2
-Candidate = tuple  # (case, body1, body2, geometry, gap, feature, point, normal)
+Candidate = tuple  # (case, body1, body2, geometry, gap, feature, point, normal, plausible)
 
 
 class Table(NamedTuple):
@@ -146,7 +148,7 @@ def _corner_ok(corner: tuple, ux: float, uy: float, flat: bool) -> bool:
     """Whether a corner may touch in the outward direction ``u``: inside its normal cone, or,
     against a straight or concave edge (which no smooth feature next to the corner can touch),
     at most CONE_SLACK beside it on a straight side (the lifted end of a box tilting on a
-    floor).  Beyond that a neighbouring feature is the contact, not this corner."""
+    floor).  Otherwise a neighbouring feature is the contact, not this corner."""
     nx, ny, width = corner[3], corner[4], corner[5]
     ang = math.atan2(nx * uy - ny * ux, nx * ux + ny * uy) % TAU
     if ang <= width + SPAN_EPS or ang >= TAU - SPAN_EPS:
@@ -156,25 +158,28 @@ def _corner_ok(corner: tuple, ux: float, uy: float, flat: bool) -> bool:
     return flat and straight and min(ang - width, TAU - ang) <= CONE_SLACK
 
 
-def _outside(w: tuple, o: tuple, px: float, py: float, eps: float) -> bool:
-    """Whether ``p`` is outside a closed convex body (turned features ``w``, offset ``o``): in
-    front of a straight edge's line, beyond an arc radially within its span or in front of
-    the tangent at one of its ends, or outside an ellipse."""
+def _way_out(w: tuple, o: tuple, px: float, py: float) -> float:
+    """A lower bound of the signed distance of ``p`` from a closed convex body (turned features
+    ``w``, offset ``o``), the best its edges give: ``n . (p - e)`` for straight edges,
+    ``|p - c| - r`` for convex arcs whose span faces p, the tangent lines at arc ends, a
+    scaled radius for an ellipse.  Positive: p is outside; negative: at most minus the depth
+    of p's shallowest way out."""
     px, py = px - o[0], py - o[1]
-    for seg in w[2]:
-        if seg[3] * (px - seg[1]) + seg[4] * (py - seg[2]) > eps:
-            return True
+    best = max(
+        (n_x * (px - x) + n_y * (py - y) for _, x, y, n_x, n_y, *_ in w[2]), default=-math.inf
+    )
     for _, cx, cy, r, a0, span, *_ in w[3]:
-        vx, vy = px - cx, py - cy
-        if r > 0 and _in_span(math.atan2(vy, vx), a0, span) and math.hypot(vx, vy) > r + eps:
-            return True
-        if r > 0 and any(math.cos(a) * vx + math.sin(a) * vy > r + eps for a in (a0, a0 + span)):
-            return True
-    for _, e, cx, cy, ph, _, _ in w[4]:
+        if r > 0:
+            vx, vy = px - cx, py - cy
+            if _in_span(math.atan2(vy, vx), a0, span):
+                best = max(best, math.hypot(vx, vy) - r)
+            for a in (a0, a0 + span):
+                best = max(best, math.cos(a) * vx + math.sin(a) * vy - r)
+    for _, e, cx, cy, ph, _, _ in w[4]:  # (scaled radius - 1) times the lower bound
         vx, vy, c, s = px - cx, py - cy, math.cos(ph), math.sin(ph)
-        if math.hypot((c * vx + s * vy) / e.a, (c * vy - s * vx) / e.b) > 1 + eps / min(e.a, e.b):
-            return True
-    return False
+        k = math.hypot((c * vx + s * vy) / e.a, (c * vy - s * vx) / e.b) - 1
+        best = max(best, k * (min(e.a, e.b) if k > 0 else max(e.a, e.b)))
+    return best
 
 
 def _maximise(f, df, n: int = 64) -> float:
@@ -273,18 +278,28 @@ class Pair:
                 self._curves_on_segments(b1, w1, o1, b2, w2, o2)
         if (self.wi[3] or self.wi[4]) and (self.wj[3] or self.wj[4]):
             self._curves_on_curves()
+        if self.wi[0] and self.wj[0]:
+            self._corner_corner()
         return self.out
 
     def add(self, case, b1, b2, geom, gap, feature, point, normal) -> None:
-        """Keep a candidate; a penetrating one only if within the depth limit and, for a closed
-        body 2, if body 1's point is not outside body 2."""
+        """Keep a candidate; a penetrating one only within the depth limit, and a penetrating
+        vertex (point) of body 1 in a closed body 2 only if it is inside body 2; it is
+        implausible (last element False) if much deeper than its shallowest way out (a
+        vertex behind the line of a far edge)."""
+        plausible = True
         if gap < 0:
+            if -gap > self.depth:
+                return
             t2, w2, o2 = (
                 (self.ti, self.wi, self.oi) if b2 == self.i else (self.tj, self.wj, self.oj)
             )
-            if -gap > self.depth or (t2.closed and _outside(w2, o2, *point, 1e-9 * t2.half_width)):
-                return
-        self.out.append((case, b1, b2, geom, gap, feature, point, normal))
+            if t2.closed and case[0] == "v":
+                out = _way_out(w2, o2, *point)
+                if out > 1e-9 * t2.half_width:
+                    return
+                plausible = gap >= out - WAY_OUT_MARGIN * self.depth
+        self.out.append((case, b1, b2, geom, gap, feature, point, normal, plausible))
 
     def _points(self, b1, w1, o1, b2, w2, o2) -> None:
         """Corners (and smooth ends) of body 1 on the edges of body 2."""
@@ -326,9 +341,28 @@ class Pair:
             return
         nx, ny = sig * vx / dist, sig * vy / dist
         if _corner_ok(corner, -nx, -ny, r < 0):
-            point = (corner[1] + o1[0], corner[2] + o1[1])
-            geom = {**corner[-1], **g2}
+            point, geom = (corner[1] + o1[0], corner[2] + o1[1]), {**corner[-1], **g2}
             self.add("vertex_circle", b1, b2, geom, gap, (corner[0], f2), point, (nx, ny))
+
+    def _corner_corner(self) -> None:
+        """Two corners facing each other, each in the other's normal cone, where neither has
+        an edge of the other in front of it: ``vertex_circle`` with a circle of radius 0 (the
+        kernels' formulas hold: sign(+0.0) = 1, ``d = |p1 - p2|``)."""
+        one, two = (self.wi[0], self.oi, self.i), (self.wj[0], self.oj, self.j)
+        if not self.i_first:
+            one, two = two, one
+        for c1 in one[0]:
+            p1 = (c1[1] + one[1][0], c1[2] + one[1][1])
+            for c2 in two[0]:
+                vx, vy = p1[0] - c2[1] - two[1][0], p1[1] - c2[2] - two[1][1]
+                gap = math.hypot(vx, vy)
+                if gap > self.tol or gap == 0.0:
+                    continue
+                nx, ny = vx / gap, vy / gap
+                if _corner_ok(c1, -nx, -ny, False) and _corner_ok(c2, nx, ny, False):
+                    geom = {**c1[-1], "cx2": c2[-1]["px1"], "cy2": c2[-1]["py1"], "r2": 0.0}
+                    feature = (c1[0], c2[0])
+                    self.add("vertex_circle", one[2], two[2], geom, gap, feature, p1, (nx, ny))
 
     def _curves_on_segments(self, b1, w1, o1, b2, w2, o2) -> None:
         """Convex arcs and ellipses (osculating circles) of body 1 on straight edges of body 2."""
@@ -398,11 +432,14 @@ class Pair:
 
 
 def filtered(cands: list[Candidate], closed: list[bool], eps: float) -> list[Candidate]:
-    """Against a closed body, a body-1 feature with a contact at gap >= 0 loses its
-    penetrating ones, otherwise keeps only its shallowest; then one constraint reported from
-    both bodies (same mid-point within ``eps``, parallel normals, same gap) is kept once."""
+    """Implausible candidates go if the pair has a plausible penetration.  Against a closed body, a
+    body-1 feature with a contact at gap >= 0 loses its penetrating ones, otherwise keeps only
+    its shallowest.  One constraint reported from both bodies (same mid-point within ``eps``,
+    parallel normals, same gap) is kept once.  Returns (case, ..., point, normal) tuples."""
+    if any(c[8] and c[4] < 0 for c in cands):
+        cands = [c for c in cands if c[8]]
     if len(cands) < 2:
-        return cands
+        return [c[:8] for c in cands]
     best: dict = {}
     for c in cands:
         if closed[c[2]]:
@@ -420,5 +457,5 @@ def filtered(cands: list[Candidate], closed: list[bool], eps: float) -> list[Can
             if same and abs(g - h) <= eps and abs(nx * kx + ny * ky) >= 1 - 1e-9:
                 break
         else:
-            out.append(c)
+            out.append(c[:8])
     return out

@@ -1,11 +1,27 @@
 """The time-stepping driver: contacts, impacts, contact forces and integration, step by step.
 
-Each step: find the contacts at the current poses (broad + narrow phase); resolve impacts at
-touching contacts that approach faster than the resting speed; take the contacts that touch and
-neither approach nor separate as the resting set; integrate one step with the forces of the resting
-set re-solved at every stage (Euler, midpoint, RK4, or scipy's adaptive RK45/DOP853 over the step).
-A resting contact is held at d'' >= 0 with d = 0 kept exactly by the exact derived b term (no
-artificial positive gap); a contact whose force would be negative leaves the clamped set.
+Why: resting contacts and impacts need different treatment (forces on accelerations for the
+first, velocity jumps for the second), and an impact must be handled when the gap is 0, not at
+the end of a step when the bodies have sunk into each other or passed through each other.
+
+Each step (and each sub-step after an impact inside it):
+
+1. Find the contacts that can close within the step: the scene's tolerance inflated by how far
+   each body can move (runtime.sweep), so fast bodies cannot tunnel through thin walls.
+2. Classify them (runtime.collisions.classify: open, colliding, resting, separating) and resolve
+   the impacts among the touching ones (runtime.collisions.resolve); the resting set is what is
+   left touching and neither approaching nor separating. Solve its contact forces (warm-started
+   from the last clamped set, runtime.warm_start); a resting contact that the forces press
+   together while it moves apart is made to rest exactly (runtime.collisions.press).
+3. Integrate a trial step with the forces of the resting set re-solved at every stage (Euler,
+   midpoint, RK4, or scipy's adaptive RK45/DOP853 over the step). A resting contact is held at
+   d'' >= 0 with d = 0 kept by the exact derived b term; a contact whose force would be negative
+   leaves the clamped set.
+4. If an open (or separating) contact's kernel gap reaches 0 during the trial step, locate the
+   first such instant (runtime.impact_time), integrate only up to it and go to 1 with the rest
+   of the step; otherwise the trial step is the step.
+
+The recorded grid stays t = k dt; impacts inside steps are listed in ``Run.impact_times``.
 """
 
 from __future__ import annotations
@@ -16,10 +32,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from runtime.collisions import impact_velocities
+from runtime import sweep
+from runtime.collisions import Frame, Limits, contact_key, make_frame, press
 from runtime.dynamics import ContactDynamics, Stabilisation
+from runtime.impact_time import ImpactSearch
 from runtime.integrators import ADAPTIVE, FIXED_STEP, METHODS
 from runtime.lcp import ContactSolverError
+from runtime.warm_start import WarmStartSolver
 
 
 class SimulationError(RuntimeError):
@@ -45,7 +64,8 @@ class Run:
     momentum: list[np.ndarray] = field(default_factory=list)
     contacts: list[list] = field(default_factory=list)
     contact_forces: list[np.ndarray] = field(default_factory=list)
-    min_gap: list[float] = field(default_factory=list)
+    min_gap: list[float] = field(default_factory=list)  # smallest gap found at each step start
+    impact_times: list[float] = field(default_factory=list)  # located times of impact
     rhs_evaluations: int = 0
     wall_time: float = 0.0
 
@@ -95,7 +115,11 @@ def _check_arguments(duration: float, dt: float, method: str) -> None:
 
 
 class Simulator:
-    """Steps one scene; `simulate` is the one-call front end."""
+    """Steps one scene; `simulate` is the one-call front end.
+
+    ``touch``: the largest gap that counts as touching (a located impact has |d| below a
+    thousandth of it). ``max_events``: impacts allowed inside one step before giving up.
+    """
 
     def __init__(
         self,
@@ -105,69 +129,149 @@ class Simulator:
         resting_speed: float = 1e-3,
         rtol: float = 1e-9,
         atol: float = 1e-12,
+        touch: float = 1e-9,
+        max_events: int = 1000,
     ) -> None:
         self.scene = scene
         self.method = method
-        self.dynamics = ContactDynamics(scene, stabilisation)
+        self.forces = WarmStartSolver()
+        self.dynamics = ContactDynamics(scene, stabilisation, self.forces)
         self.resting_speed = resting_speed
         self.rtol, self.atol = rtol, atol
+        touch = min(touch, scene.contact_tolerance)
+        self.limits = Limits.default(resting_speed, touch, scene.contact_tolerance)
+        self.max_events = max_events
         self.n = len(scene.bodies)
+        self.shapes, self.fixed = scene.shapes, scene.fixed
+        self.search = ImpactSearch(
+            self.dynamics, self.shapes, self.fixed, touch, scene.contact_tolerance
+        )
+        self.radii = self.search.radii
+        self.moving = 1.0 - np.asarray(self.fixed, dtype=float)
+        self.gravity = float(np.hypot(*scene.gravity))
         self.evaluations = 0
+        self.held: set = set()  # keys of the contacts resting in the last frame
+        self.impact_times: list[float] = []  # located impacts, time from the step start
+        self.last_frame: Frame | None = None  # the first frame of the last step
+
+    def _solve(self, resting: list, keys: list, poses: np.ndarray, velocities: np.ndarray):
+        self.forces.keys = keys  # the warm start follows the contacts, not their order
+        return self.dynamics.solve(resting, poses, velocities)
 
     def _rhs(self, resting: list) -> Callable[[np.ndarray], np.ndarray]:
         n = self.n
+        keys = [contact_key(c) for c in resting]
 
         def rhs(y: np.ndarray) -> np.ndarray:
             self.evaluations += 1
             poses, vel = y[: 3 * n].reshape(n, 3), y[3 * n :].reshape(n, 3)
-            acc = self.dynamics.solve(resting, poses, vel).accelerations
+            acc = self._solve(resting, keys, poses, vel).accelerations
             return np.concatenate([vel.ravel(), acc.ravel()])
 
         return rhs
 
-    def classify(self, poses: np.ndarray, velocities: np.ndarray):
-        """Contacts now, after impacts: (resting contacts, velocities, all touching contacts)."""
-        contacts = self.scene.find_contacts(poses)
-        if not contacts:
-            return [], velocities, contacts
-        rows = self.dynamics.rows(contacts, poses, velocities)
-        if np.any(rows.gap_velocity < -self.resting_speed):
-            velocities = impact_velocities(
-                self.dynamics, contacts, rows, velocities, self.resting_speed
-            )
-            rows = self.dynamics.rows(contacts, poses, velocities)
-        resting = [
-            c
-            for c, dv in zip(contacts, rows.gap_velocity, strict=True)
-            if abs(dv) <= self.resting_speed
-        ]
-        return resting, velocities, contacts
+    def _split(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        n = self.n
+        return y[: 3 * n].reshape(n, 3), y[3 * n :].reshape(n, 3)
 
-    def step(self, poses: np.ndarray, velocities: np.ndarray, dt: float):
-        """One step from (poses, velocities): returns (poses, velocities, resting, forces)."""
-        resting, velocities, _ = self.classify(poses, velocities)
-        solution = self.dynamics.solve(resting, poses, velocities)
-        y = np.concatenate([poses.ravel(), velocities.ravel()])
+    # -- contacts and impacts at one instant ------------------------------------------------
+
+    def frame(self, poses: np.ndarray, velocities: np.ndarray, h: float) -> Frame:
+        """Contacts that can close within h, classified, with the impacts among them resolved."""
+        margin = sweep.margins(velocities, h, self.radii, self.moving, self.gravity)
+        return self._frame(
+            sweep.swept_contacts(self.scene, poses, margin), poses, velocities, margin
+        )
+
+    def _frame(self, contacts: list, poses, velocities, margin) -> Frame:
+        frame = make_frame(
+            self.dynamics, contacts, poses, velocities, margin, self.held, self.limits
+        )
+        self.held = {contact_key(c) for c in frame.resting}
+        return frame
+
+    def classify(self, poses: np.ndarray, velocities: np.ndarray, h: float = 0.0):
+        """Contacts now, after impacts: (resting contacts, velocities, all contacts found)."""
+        frame = self.last_frame = self.frame(poses, velocities, h)
+        return frame.resting, frame.velocities, frame.contacts
+
+    # -- one step -----------------------------------------------------------------------------
+
+    def _trajectory(self, poses, velocities, h: float, resting: list, solution):
+        """t -> state after integrating t (0 < t <= h) from (poses, velocities)."""
+        y0 = np.concatenate([poses.ravel(), velocities.ravel()])
         rhs = self._rhs(resting)
+        cache: dict[float, np.ndarray] = {}
         if self.method in FIXED_STEP:
             k1 = np.concatenate([velocities.ravel(), solution.accelerations.ravel()])
-            y = FIXED_STEP[self.method](rhs, y, dt, k1)
-        else:
-            from scipy.integrate import solve_ivp  # imported on use: it costs ~1 s to import
+            integrate = FIXED_STEP[self.method]
 
-            sol = solve_ivp(
-                lambda _t, yy: rhs(yy),
-                (0.0, dt),
-                y,
-                method=ADAPTIVE[self.method],
-                rtol=self.rtol,
-                atol=self.atol,
-            )
-            if not sol.success:
-                raise RuntimeError(f"solve_ivp failed: {sol.message}")
-            y = sol.y[:, -1]
-        n = self.n
-        return y[: 3 * n].reshape(n, 3), y[3 * n :].reshape(n, 3), resting, solution
+            def at(t: float) -> np.ndarray:
+                if t not in cache:
+                    cache[t] = integrate(rhs, y0, t, k1)
+                return cache[t]
+
+            return at
+        from scipy.integrate import solve_ivp  # imported on use: it costs ~1 s to import
+
+        sol = solve_ivp(
+            lambda _t, yy: rhs(yy),
+            (0.0, h),
+            y0,
+            method=ADAPTIVE[self.method],
+            rtol=self.rtol,
+            atol=self.atol,
+            dense_output=True,
+        )
+        if not sol.success:
+            raise RuntimeError(f"solve_ivp failed: {sol.message}")
+        return lambda t: sol.y[:, -1] if t >= h else sol.sol(t)
+
+    def step(self, poses: np.ndarray, velocities: np.ndarray, dt: float):
+        """One step from (poses, velocities): returns (poses, velocities, resting, forces).
+
+        Integrates to the end of the step, or to the first time of impact inside it, resolves
+        the impact there and goes on with the rest of the step. ``resting`` and ``forces`` are
+        those at the start of the step.
+        """
+        remaining, first, events = dt, None, 0
+        while True:
+            frame = self.frame(poses, velocities, remaining)
+            resting, keys = frame.resting, [contact_key(c) for c in frame.resting]
+            solution = self._solve(resting, keys, poses, frame.velocities)
+            pressed = press(self.dynamics, frame, solution, self.limits.creep_speed)
+            if pressed is not None:  # no hovering: see runtime.collisions.press
+                frame = pressed
+                solution = self._solve(resting, keys, poses, frame.velocities)
+            velocities = frame.velocities
+            if first is None:
+                first = (frame, resting, solution)
+                self.last_frame = frame
+            traj = self._trajectory(poses, velocities, remaining, resting, solution)
+            tau = self._first_impact(frame, traj, remaining, poses)
+            if tau is None or tau >= remaining:
+                end_poses, end_vel = self._split(traj(remaining))
+                return end_poses, end_vel, first[1], first[2]
+            poses, velocities = self._split(traj(tau))
+            remaining -= tau
+            self.impact_times.append(dt - remaining)
+            events += 1
+            if events > self.max_events:
+                raise RuntimeError(f"more than {self.max_events} impacts within one step")
+
+    # -- time of impact -------------------------------------------------------------------
+
+    def _first_impact(self, frame: Frame, traj, h: float, poses: np.ndarray) -> float | None:
+        """Time from the step start of the first impact among the frame's open contacts."""
+        if frame.rows is None:
+            return None
+        end = traj(h)
+        end_poses = self._split(end)[0]
+        if sweep.outran(poses, end_poses, self.radii, frame.margin):  # widen and search again
+            wider = np.maximum(frame.margin, 2.0 * sweep.displacement(poses, end_poses, self.radii))
+            contacts = sweep.swept_contacts(self.scene, poses, wider)
+            frame = self._frame(contacts, poses, frame.velocities, wider)
+        return self.search.first(frame, traj, h)
 
 
 def simulate(
@@ -202,7 +306,9 @@ def simulate(
                 solution = sim.dynamics.solve(resting, poses, vel)
                 new = None
             else:
+                before = len(sim.impact_times)
                 new_poses, new_vel, resting, solution = sim.step(poses, vel, dt)
+                run.impact_times += [t + tau for tau in sim.impact_times[before:]]
                 new = (new_poses, new_vel)
         except (ContactSolverError, RuntimeError, FloatingPointError) as exc:
             names = sorted(
@@ -224,8 +330,7 @@ def simulate(
             run.momentum.append(linear_momentum(scene, vel))
             run.contacts.append(resting)
             run.contact_forces.append(solution.forces)
-            gaps = solution.rows.gap if solution.rows is not None else []
-            run.min_gap.append(float(np.min(gaps)) if len(gaps) else np.inf)
+            run.min_gap.append(sim.last_frame.min_gap if sim.last_frame else np.inf)
         if new is None:
             break
         if not (np.all(np.isfinite(new[0])) and np.all(np.isfinite(new[1]))):

@@ -75,8 +75,10 @@ def check_kernel_formulas(found: list[Contact], poses) -> None:
         assert set(c.geometry) == expected
         if "r1" in c.geometry:
             assert c.geometry["r1"] > 0
-        if c.case == "vertex_circle" or c.case == "circle_circle":
+        if c.case == "circle_circle" or (c.case == "vertex_circle" and c.feature[1][0] == "edge"):
             assert c.geometry["r2"] != 0
+        if c.feature[1][0] == "vertex":  # corner on corner: a circle of radius +0
+            assert c.case == "vertex_circle" and math.copysign(1, c.geometry["r2"]) == 1
         hash(c.feature)
 
 
@@ -196,6 +198,22 @@ def test_disc_wedged_in_a_v_touches_both_sides():
     assert all(c.gap == pytest.approx(0, abs=1e-15) for c in found)
 
 
+def test_corner_facing_a_corner_is_a_vertex_circle_of_radius_zero():
+    # two half discs whose nearest points are two corners (each beyond the other's edges)
+    hd = shapes.half_disc(0.5).centred()[0]
+    poses = [[0.0, 0.0, 2.0], [1.35, 0.0, 0.0]]
+    (c,) = find([hd, hd], poses, [False, False], tol=1.0)
+    assert c.case == "vertex_circle" and c.geometry["r2"] == 0.0
+    assert c.feature[0][0] == c.feature[1][0] == "vertex"
+    p = [np.array(poses[k][:2]) + rot(poses[k][2], hd.vertices[c.feature[k][1]]) for k in (0, 1)]
+    assert c.gap == pytest.approx(np.hypot(*(p[0] - p[1])), rel=1e-12)
+    # corners meeting along an edge are edge contacts, not corner-corner
+    assert all(
+        c.feature[1][0] == "edge"
+        for c in find([SQUARE, SQUARE], [[0, 0, 0], [1.0, 0.5, 0]], [False, False])
+    )
+
+
 def test_convex_circles_fixed_body_is_body_two_else_lower_index_first():
     a, b = shapes.disc(1.0), shapes.disc(0.5)
     (c,) = find([a, b], [[0, 0, 0], [1.5, 0, 0]], [True, False])
@@ -253,6 +271,19 @@ def test_penetration_keeps_only_plausible_contacts():
         and poke[0].gap == pytest.approx(-0.01)
         and poke[0].normal == pytest.approx((0, 1))
     )
+    # two half discs overlapping by about 0.05 on their arcs; a corner of one lies 0.2 behind
+    # the other's flat side but much nearer its arc: that is no contact
+    hd = shapes.half_disc(0.6).centred()[0]
+    poses = [
+        [0, 0, 1.0466657252596683],
+        [0.7712241681210872, 0.8934486617963334, -1.9316406270348754],
+    ]
+    (c,) = find([hd, hd], poses, [False, False], tol=0.0)
+    assert c.case == "circle_circle" and c.gap == pytest.approx(-0.046079, abs=1e-6)
+    # stacked boxes sunk 1e-4 into each other and 1e-7 out of line: still both ends
+    ends = find([SQUARE, SQUARE], [[0, 0, 0], [1e-7, 1 - 1e-4, 0]], [False, False])
+    assert len(ends) == 2 and all(c.gap == pytest.approx(-1e-4) for c in ends)
+    same(sorted(c.normal[1] * (1 if c.body2 == 0 else -1) for c in ends), [1, 1])
     deep = find([FLOOR, shapes.disc(0.1)], [[0, 0, 0], [0, 0.05, 0]], [True, False])
     assert [c.gap for c in deep] == pytest.approx([-0.05])  # reported for the overlap check
     assert find([FLOOR, shapes.disc(0.1)], [[0, 0, 0], [0, -0.05, 0]], [True, False]) == []
@@ -441,6 +472,7 @@ def test_possible_cases():
     assert possible_cases([FLOOR, FLOOR, disc], [True, True, False]) == {"circle_edge"}
     assert possible_cases([FLOOR, shapes.bowl(1, -3, 0)], [True, True]) == set()
     assert possible_cases([FLOOR, SQUARE], [True, False]) == {"vertex_edge"}
+    assert possible_cases([SQUARE, SQUARE], [False, False]) == {"vertex_edge", "vertex_circle"}
     assert possible_cases([shapes.bowl(1, -3, 0), SQUARE], [True, False]) == {"vertex_circle"}
     rr = shapes.rounded_rect(1, 0.5, 0.1)
     assert possible_cases([FLOOR, rr], [True, False]) == {"circle_edge", "vertex_edge"}

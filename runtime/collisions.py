@@ -20,8 +20,7 @@ Contact modes (:func:`classify`), decided per contact from its gap d and gap vel
 * ``SEPARATING``: touching and d' > separation speed: it is left free, and its return, if any,
   is an impact located in time.
 
-Hysteresis: a contact ``held`` (resting in the previous frame, and given no impulse since)
-rests up to d' = resting speed, so a contact about to lift off stays in the LCP, which lets it
+Hysteresis: a contact ``held`` (resting in the previous frame) rests up to d' = resting speed, so a contact about to lift off stays in the LCP, which lets it
 go (zero force) as soon as it pulls apart -- the lift-off is decided by the forces, not by
 speeds -- and a held contact that drifts apart stays resting up to the hold gap (100 touch,
 1e-7 m by default) unless it comes back faster than the separation speed. A contact in a
@@ -278,8 +277,6 @@ def make_frame(
         before = rows.gap_velocity  # d' = J v: the impulses change it by J (v+ - v-)
         rows = replace(rows, gap_velocity=before + rows.dense_jacobian(len(velocities)) @ change)
         was_open = modes == _OPEN
-        # a held contact given an impulse is a new contact: it must not hover
-        options["held"] = was_held & (np.abs(rows.gap_velocity - before) <= limits.creep_speed)
         modes = classify(rows.gap, rows.gap_velocity, **options)
         modes[was_open] = _OPEN
     return Frame(contacts, rows, modes, velocities, margin, impact)

@@ -264,9 +264,11 @@ class Shape:
 
     ``edges``: the boundary, material on the left (closed: counter-clockwise; ``closed=False``
     for an open chain such as a wall or a bowl, which bounds no area).  ``vertices``: the
-    corner points, the only points that take part in contacts as "vertex" features.  Mass
-    properties (per unit density) are those of the region a closed boundary encloses; an open
-    chain has area, centroid and second moment zero."""
+    corner points, the points that take part in contacts as "vertex" features (besides them,
+    the end of a convex arc where it runs smoothly into a straight side acts as a vertex
+    against straight edges: runtime/narrowphase.py).  Mass properties (per unit density) are
+    those of the region a closed boundary encloses; an open chain has area, centroid and
+    second moment zero.  ``_cache`` holds derived tables (the narrow phase's features)."""
 
     edges: tuple[Edge, ...]
     vertices: tuple[Point, ...] = ()

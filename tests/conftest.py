@@ -1,7 +1,8 @@
 """Test-suite setup: make the project packages and the test helpers importable.
 
-The project is not installed into the virtualenv, so the repository root (for ``derive``,
-``generated``, ``runtime``) and ``tests/`` (for the shared helper ``oracle``) go on sys.path.
+`make test` installs the project (editable), but a bare `pytest` in a checkout should work too, so
+the repository root (for ``derive``, ``generated``, ``runtime``) and ``tests/`` (for the shared
+helpers ``oracle`` and ``strategies``) go on sys.path.
 """
 
 import sys

@@ -16,19 +16,29 @@ Contact modes (:func:`classify`), decided per contact from its gap d and gap vel
   This is what ends a bouncing ball in finite time: once the impact speed is below the resting
   speed the bounce is plastic and the contact rests -- no Zeno loop of ever smaller bounces. A
   resting contact that moves apart while the forces press it is made to rest exactly
-  (:func:`press`), so nothing hovers;
+  (runtime.resting), so nothing hovers;
 * ``SEPARATING``: touching and d' > separation speed: it is left free, and its return, if any,
-  is an impact located in time.
+  is an impact located in time;
+* ``LIFTING``: resting, but moving apart with nothing pressing it (runtime.resting decides):
+  free in the step's force computation, watched like a separating contact, recorded as
+  resting.
 
-Hysteresis: a contact ``held`` (resting in the previous frame) rests up to d' = resting speed, so a contact about to lift off stays in the LCP, which lets it
-go (zero force) as soon as it pulls apart -- the lift-off is decided by the forces, not by
-speeds -- and a held contact that drifts apart stays resting up to the hold gap (100 touch,
-1e-7 m by default) unless it comes back faster than the separation speed. A contact in a
-settling pile that opens by nanometres and closes again at micrometres per second is therefore
-one resting contact, not a stream of impacts; the price is that it may rest at a gap of up to
-the hold gap (never at a penetration).
+Hysteresis: a contact ``held`` (resting in the previous frame) rests up to d' = resting speed
+while it touches, so a contact about to lift off stays in the LCP, which lets it go (zero force)
+as soon as it pulls apart -- the lift-off is decided by the forces, not by speeds. Having drifted
+apart, up to the hold gap (100 touch, 1e-7 m by default), it still rests unless it moves apart
+(faster than the creep speed: it is let go, since a force on a contact moving apart would do
+work and feed energy in) or comes back faster than the separation speed (its impact is
+located). A contact in a settling pile that opens by nanometres and closes again slowly is
+therefore one resting contact, not a stream of impacts; the price is that it may rest at a gap
+of up to the hold gap (never at a penetration).
 
-Restitution of a contact: the larger of its two bodies' (as Box2D), 0 below the resting speed.
+Restitution of a contact: the larger of its two bodies' (as Box2D), 0 below the resting speed;
+a bounce slower than the separation speed that the forces press back rests at once; and 0 for a
+contact that was resting at the end of the last step and collides (a resting contact drifted
+open by the integration, e.g. of a large scene at a large step, is not a collision: with
+restitution 1 it would bounce for ever). Impulses passed on by a wave keep their restitution. The creep
+speed (1e-9 of the resting speed) is the rounding level of d' below which nothing is done.
 
 Policy for several contacts (:func:`resolve`): waves of simultaneous impulses, then one inelastic
 simultaneous pass.
@@ -73,9 +83,11 @@ class Mode(IntEnum):
     COLLIDING = 1
     RESTING = 2
     SEPARATING = 3
+    LIFTING = 4  # resting, but moving apart with nothing pressing it (runtime.resting)
 
 
 _OPEN, _RESTING, _SEPARATING = int(Mode.OPEN), int(Mode.RESTING), int(Mode.SEPARATING)
+_LIFTING = int(Mode.LIFTING)
 
 
 @dataclass(frozen=True)
@@ -91,9 +103,9 @@ class Limits:
     @classmethod
     def default(cls, resting_speed: float, touch: float, tolerance: float) -> Limits:
         """Hold gap 100 touch (at most the contact tolerance ``tolerance``), separation speed
-        the resting speed, creep speed 1e-6 of it."""
+        the resting speed, creep speed 1e-9 of it."""
         hold = min(100.0 * touch, tolerance)
-        return cls(touch, hold, resting_speed, resting_speed, 1e-6 * resting_speed)
+        return cls(touch, hold, resting_speed, resting_speed, 1e-9 * resting_speed)
 
 
 def contact_key(contact) -> tuple:
@@ -110,13 +122,14 @@ def classify(
     separation_speed: float,
     held: np.ndarray | None = None,
     hold_gap: float = 0.0,
+    creep_speed: float = 0.0,
 ) -> np.ndarray:
     """Mode of each contact (an int array of :class:`Mode`).
 
     ``touch``: largest gap that counts as touching. ``held``: contacts that were resting before
-    (a bool array): they rest up to d' = ``resting_speed`` and, having drifted apart, up to a
-    gap of ``hold_gap`` unless they come back faster than the separation speed; else they are
-    open like any other contact.
+    (a bool array): while touching they rest up to d' = ``resting_speed``; drifted apart (up to
+    ``hold_gap``) they rest while they move apart no faster than ``creep_speed`` and come back
+    no faster than the separation speed; else they are open like any other contact.
     """
     gap, dv = np.asarray(gap, float), np.asarray(gap_velocity, float)
     touching = gap <= touch
@@ -124,7 +137,7 @@ def classify(
     if held is not None:
         held = np.asarray(held, bool)
         drifted = held & ~touching & (gap <= hold_gap)
-        touching = touching | (drifted & (dv >= -separation_speed) & (dv <= resting_speed))
+        touching = touching | (drifted & (dv >= -separation_speed) & (dv <= creep_speed))
         limit = np.where(held, resting_speed, separation_speed)
     # plain ints (IntEnum attribute access is slow on this hot path)
     mode = np.where(dv < -resting_speed, 1, np.where(dv <= limit, 2, 3))
@@ -229,9 +242,14 @@ class Frame:
         self.resting = [self.contacts[k] for k in np.flatnonzero(self.modes == _RESTING)]
 
     @property
+    def lifting(self) -> list:
+        return [self.contacts[k] for k in np.flatnonzero(self.modes == _LIFTING)]
+
+    @property
     def monitored(self) -> np.ndarray:
-        """Indices of the contacts whose time of impact is watched: open and separating."""
-        return np.flatnonzero((self.modes == _OPEN) | (self.modes == _SEPARATING))
+        """Indices of the contacts whose time of impact is watched: open, separating, lifting."""
+        m = self.modes
+        return np.flatnonzero((m == _OPEN) | (m == _SEPARATING) | (m == _LIFTING))
 
     @property
     def min_gap(self) -> float:
@@ -246,9 +264,11 @@ def make_frame(
     margin: np.ndarray,
     held: set,
     limits: Limits,
+    recent: set | frozenset = frozenset(),
 ) -> Frame:
     """Classify ``contacts`` (``held``: keys of the contacts resting before) and resolve the
-    impacts among the touching ones."""
+    impacts among the touching ones. A contact of ``recent`` (resting at the end of the last
+    step) that collides is a resting contact that drifted open, not a collision: plastic."""
     if not contacts:
         return Frame([], None, np.zeros(0, dtype=int), velocities, margin)
     rows = dynamics.rows(contacts, poses, velocities)
@@ -259,16 +279,22 @@ def make_frame(
         separation_speed=limits.separation_speed,
         held=was_held,
         hold_gap=limits.hold_gap,
+        creep_speed=limits.creep_speed,
     )
     modes = classify(rows.gap, rows.gap_velocity, **options)
     touching = np.flatnonzero(modes != _OPEN)
     impact = None
     if touching.size and np.any(rows.gap_velocity[touching] < -limits.creep_speed):
+        touched = [contacts[k] for k in touching]
+        e = restitution(dynamics.scene.bodies, touched)
+        if recent:
+            drifted = [contact_key(c) in recent for c in touched]
+            e[np.asarray(drifted) & (rows.gap_velocity[touching] < -limits.resting_speed)] = 0.0
         impact = resolve(
             dynamics,
-            _subset(rows, touching),
+            subset(rows, touching),
             velocities,
-            restitution(dynamics.scene.bodies, [contacts[k] for k in touching]),
+            e,
             limits.resting_speed,
             limits.creep_speed,
         )
@@ -282,44 +308,8 @@ def make_frame(
     return Frame(contacts, rows, modes, velocities, margin, impact)
 
 
-def press(dynamics, frame: Frame, solution, creep_speed: float) -> Frame | None:
-    """The frame with the separation speed of its pressed resting contacts removed, or None.
-
-    A resting contact that moves apart (d' > creep speed) although nothing pulls it apart (the
-    contact forces press it, force > 0, or it is redundant, force 0 and d'' = 0) would hover or
-    drift: the LCP keeps d'' = 0, so it moves apart at constant speed, is let go at the touch
-    gap and falls back, over and over in a pile. Really it hops: it leaves, falls back within a
-    tiny fraction of a step and lands plastically (its speed is below the resting speed). That
-    net effect is applied at once: impulses (of either sign on these contacts, >= 0 on the other
-    resting ones) make d' = 0 on the pressed contacts and >= 0 on the rest (runtime.lcp, with the
-    pressed contacts as bilateral rows). ``solution``: the contact forces of ``frame.resting``
-    (runtime.dynamics.ContactSolution). A contact that lifts off (force 0, d'' > 0) is left alone.
-    """
-    resting = np.flatnonzero(frame.modes == _RESTING)
-    if resting.size == 0:
-        return None
-    rows = _subset(frame.rows, resting)
-    apart = rows.gap_velocity > creep_speed
-    if not apart.any():
-        return None
-    a_matrix, _, jm = dynamics.effective_mass_matrix(rows)
-    forces, b = solution.forces, solution.free_gap_acceleration
-    lifting = (a_matrix @ forces + b) > lcp.DEFAULT_TOL * float(np.max(np.abs(b), initial=0.0))
-    pressed = apart & ((forces > 0.0) | ~lifting)
-    if not pressed.any():
-        return None
-    try:
-        p = lcp.solve(a_matrix, rows.gap_velocity, joint=pressed)
-    except lcp.ContactSolverError:
-        return None  # dependent pressed contacts with inconsistent speeds: let them drift
-    change = (jm.T @ p).ravel()
-    velocities = frame.velocities + change.reshape(frame.velocities.shape)
-    all_rows = frame.rows
-    moved = all_rows.gap_velocity + all_rows.dense_jacobian(len(velocities)) @ change
-    return replace(frame, velocities=velocities, rows=replace(all_rows, gap_velocity=moved))
-
-
-def _subset(rows: ContactRows, idx: np.ndarray) -> ContactRows:
+def subset(rows: ContactRows, idx: np.ndarray) -> ContactRows:
+    """The kernel rows of the contacts ``idx``."""
     return ContactRows(
         rows.gap[idx],
         rows.gap_velocity[idx],

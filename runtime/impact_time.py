@@ -17,7 +17,8 @@ and, where d changes sign, finds the instant with d = 0 and restarts from there.
 * :class:`ImpactSearch` puts them together for one trial step: brackets for all watched
   contacts, then, in order of their guesses, the earliest located impact that the contact
   finder confirms (a kernel's gap is that of a whole line or circle: beyond an edge's or arc's
-  end it can cross zero with nothing there).
+  end it can cross zero with nothing there) and that is not a graze (a tangent touch, d = 0
+  with d' = 0 up to rounding, which must not deflect a body skimming past).
 """
 
 from __future__ import annotations
@@ -46,6 +47,13 @@ class Bracket:
     hi: float
     guess: float
     kind: str
+    cubic: np.ndarray  # the Hermite cubic of d over the step, in s = t / h
+    h: float
+
+    def curvature(self, t: float) -> float:
+        """d'' at t from the cubic."""
+        s = t / self.h
+        return float((2.0 * self.cubic[2] + 6.0 * self.cubic[3] * s) / self.h**2)
 
 
 def hermite(g0: float, v0: float, g1: float, v1: float, h: float) -> np.ndarray:
@@ -112,13 +120,13 @@ def brackets(
         if touching[k]:
             top = _extremum(c, minimum=False)
             if top is not None:
-                found.append(Bracket(k, top * h, h, _first_root(c, top, 1.0) * h, RETURN))
+                found.append(Bracket(k, top * h, h, _first_root(c, top, 1.0) * h, RETURN, c, h))
         elif g1[k] <= 0:
-            found.append(Bracket(k, 0.0, h, _first_root(c, 0.0, 1.0) * h, CROSS))
+            found.append(Bracket(k, 0.0, h, _first_root(c, 0.0, 1.0) * h, CROSS, c, h))
         else:
             low = _extremum(c, minimum=True)
             if low is not None and _value(c, low) < 0:
-                found.append(Bracket(k, 0.0, low * h, _first_root(c, 0.0, low) * h, DIP))
+                found.append(Bracket(k, 0.0, low * h, _first_root(c, 0.0, low) * h, DIP, c, h))
     found.sort(key=lambda b: b.guess)
     return found
 
@@ -182,7 +190,7 @@ class ImpactSearch:
             end.gap,
             end.gap_velocity,
             h,
-            frame.modes[watched] == int(Mode.SEPARATING),
+            np.isin(frame.modes[watched], (int(Mode.SEPARATING), int(Mode.LIFTING))),
         )
         resting = {contact_key(c) for c in frame.resting}
         best = None
@@ -206,7 +214,9 @@ class ImpactSearch:
                     gap_tol=1e-3 * self.touch,
                     time_tol=4.0 * np.finfo(float).eps * h,
                 )
-            if d <= self.touch and self._touches(contact, traj(t), resting):
+            if d > self.touch or _grazes(gap(t)[1], bracket.curvature(t), 1e-6 * self.touch):
+                continue
+            if self._touches(contact, traj(t), resting):
                 best = t
         return best
 
@@ -238,6 +248,14 @@ class ImpactSearch:
         poses = self._split(state)[0]
         found = sweep.pair_contacts(self.shapes, self.fixed, i, j, poses, self.touch)
         return any(contact_key(c) not in resting for c in found)
+
+
+def _grazes(rate: float, curvature: float, dip: float) -> bool:
+    """Whether a located zero of d is a graze, not an impact: d is at a minimum there (d'' > 0)
+    and dips below 0 by at most ``dip`` (d'^2 / 2 d'', rounding level: 1e-15 m by default): a
+    tangent touch, where d = 0 is met with d' = 0 up to rounding -- an impulse there would
+    deflect a body that only skims past."""
+    return rate < 0 < curvature and rate * rate <= 2.0 * curvature * dip
 
 
 def _is_oval(shape, feature) -> bool:

@@ -11,8 +11,8 @@ Each step (and each sub-step after an impact inside it):
 2. Classify them (runtime.collisions.classify: open, colliding, resting, separating) and resolve
    the impacts among the touching ones (runtime.collisions.resolve); the resting set is what is
    left touching and neither approaching nor separating. Solve its contact forces (warm-started
-   from the last clamped set, runtime.warm_start); a resting contact that the forces press
-   together while it moves apart is made to rest exactly (runtime.collisions.press).
+   from the last clamped set, runtime.warm_start); a resting contact that moves apart is either
+   pressed back to rest or marked lifting (runtime.resting), so no force does work.
 3. Integrate a trial step with the forces of the resting set re-solved at every stage (Euler,
    midpoint, RK4, or scipy's adaptive RK45/DOP853 over the step). A resting contact is held at
    d'' >= 0 with d = 0 kept by the exact derived b term; a contact whose force would be negative
@@ -28,16 +28,17 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from runtime import sweep
-from runtime.collisions import Frame, Limits, contact_key, make_frame, press
+from runtime.collisions import Frame, Limits, Mode, contact_key, make_frame
 from runtime.dynamics import ContactDynamics, Stabilisation
 from runtime.impact_time import ImpactSearch
 from runtime.integrators import ADAPTIVE, FIXED_STEP, METHODS
 from runtime.lcp import ContactSolverError
+from runtime.resting import settle
 from runtime.warm_start import WarmStartSolver
 
 
@@ -151,11 +152,13 @@ class Simulator:
         self.gravity = float(np.hypot(*scene.gravity))
         self.evaluations = 0
         self.held: set = set()  # keys of the contacts resting in the last frame
+        self.recent: set = set()  # keys of the contacts resting at the end of the last step
         self.impact_times: list[float] = []  # located impacts, time from the step start
         self.last_frame: Frame | None = None  # the first frame of the last step
 
-    def _solve(self, resting: list, keys: list, poses: np.ndarray, velocities: np.ndarray):
-        self.forces.keys = keys  # the warm start follows the contacts, not their order
+    def _solve(self, resting: list, poses: np.ndarray, velocities: np.ndarray, keys=None):
+        """Contact forces of ``resting``; the warm start follows the contacts, not their order."""
+        self.forces.keys = [contact_key(c) for c in resting] if keys is None else keys
         return self.dynamics.solve(resting, poses, velocities)
 
     def _rhs(self, resting: list) -> Callable[[np.ndarray], np.ndarray]:
@@ -165,7 +168,7 @@ class Simulator:
         def rhs(y: np.ndarray) -> np.ndarray:
             self.evaluations += 1
             poses, vel = y[: 3 * n].reshape(n, 3), y[3 * n :].reshape(n, 3)
-            acc = self._solve(resting, keys, poses, vel).accelerations
+            acc = self._solve(resting, poses, vel, keys).accelerations
             return np.concatenate([vel.ravel(), acc.ravel()])
 
         return rhs
@@ -185,7 +188,7 @@ class Simulator:
 
     def _frame(self, contacts: list, poses, velocities, margin) -> Frame:
         frame = make_frame(
-            self.dynamics, contacts, poses, velocities, margin, self.held, self.limits
+            self.dynamics, contacts, poses, velocities, margin, self.held, self.limits, self.recent
         )
         self.held = {contact_key(c) for c in frame.resting}
         return frame
@@ -235,23 +238,23 @@ class Simulator:
         those at the start of the step.
         """
         remaining, first, events = dt, None, 0
+        self.recent = set(self.held)  # resting at the end of the last step
         while True:
-            frame = self.frame(poses, velocities, remaining)
-            resting, keys = frame.resting, [contact_key(c) for c in frame.resting]
-            solution = self._solve(resting, keys, poses, frame.velocities)
-            pressed = press(self.dynamics, frame, solution, self.limits.creep_speed)
-            if pressed is not None:  # no hovering: see runtime.collisions.press
-                frame = pressed
-                solution = self._solve(resting, keys, poses, frame.velocities)
-            velocities = frame.velocities
+            frame, solution = settle(
+                self.dynamics,
+                self.frame(poses, velocities, remaining),
+                lambda rest, vel, at=poses: self._solve(rest, at, vel),
+                self.limits.creep_speed,
+            )
+            resting = frame.resting
             if first is None:
-                first = (frame, resting, solution)
+                first = self._record(frame, poses, solution)
                 self.last_frame = frame
-            traj = self._trajectory(poses, velocities, remaining, resting, solution)
+            traj = self._trajectory(poses, frame.velocities, remaining, resting, solution)
             tau = self._first_impact(frame, traj, remaining, poses)
             if tau is None or tau >= remaining:
                 end_poses, end_vel = self._split(traj(remaining))
-                return end_poses, end_vel, first[1], first[2]
+                return end_poses, end_vel, first[0], first[1]
             poses, velocities = self._split(traj(tau))
             remaining -= tau
             self.impact_times.append(dt - remaining)
@@ -259,18 +262,29 @@ class Simulator:
             if events > self.max_events:
                 raise RuntimeError(f"more than {self.max_events} impacts within one step")
 
+    def _record(self, frame: Frame, poses, solution):
+        """(resting contacts, their forces) to record: lifting contacts count as resting."""
+        if not frame.lifting:
+            return frame.resting, solution
+        every = frame.resting + frame.lifting
+        return every, self._solve(every, poses, frame.velocities)
+
     # -- time of impact -------------------------------------------------------------------
 
     def _first_impact(self, frame: Frame, traj, h: float, poses: np.ndarray) -> float | None:
         """Time from the step start of the first impact among the frame's open contacts."""
-        if frame.rows is None:
-            return None
-        end = traj(h)
-        end_poses = self._split(end)[0]
+        end_poses = self._split(traj(h))[0]
         if sweep.outran(poses, end_poses, self.radii, frame.margin):  # widen and search again
             wider = np.maximum(frame.margin, 2.0 * sweep.displacement(poses, end_poses, self.radii))
+            lifting = {contact_key(c) for c in frame.lifting}
             contacts = sweep.swept_contacts(self.scene, poses, wider)
             frame = self._frame(contacts, poses, frame.velocities, wider)
+            if lifting:  # keep watching the lifting contacts the trial step left free
+                modes = frame.modes.copy()
+                modes[[k for k, c in enumerate(contacts) if contact_key(c) in lifting]] = int(
+                    Mode.LIFTING
+                )
+                frame = replace(frame, modes=modes)
         return self.search.first(frame, traj, h)
 
 

@@ -21,6 +21,7 @@ _EXPORTS = {
     "SimulationError": "runtime.simulation",
     "simulate": "runtime.simulation",
     "Stabilisation": "runtime.dynamics",
+    "Guards": "runtime.guards",
 }
 
 __all__ = sorted(_EXPORTS)

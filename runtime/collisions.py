@@ -101,10 +101,13 @@ class Limits:
     creep_speed: float  # approach left after impacts (rounding level)
 
     @classmethod
-    def default(cls, resting_speed: float, touch: float, tolerance: float) -> Limits:
-        """Hold gap 100 touch (at most the contact tolerance ``tolerance``), separation speed
-        the resting speed, creep speed 1e-9 of it."""
-        hold = min(100.0 * touch, tolerance)
+    def default(
+        cls, resting_speed: float, touch: float, tolerance: float, drift: float = 0.0
+    ) -> Limits:
+        """Hold gap the larger of 100 touch and ``drift`` (how far the integrator may carry a
+        resting contact off its surface in one step), at most the contact tolerance
+        ``tolerance``; separation speed the resting speed, creep speed 1e-9 of it."""
+        hold = min(max(100.0 * touch, drift), tolerance)
         return cls(touch, hold, resting_speed, resting_speed, 1e-9 * resting_speed)
 
 
@@ -137,7 +140,7 @@ def classify(
     if held is not None:
         held = np.asarray(held, bool)
         drifted = held & ~touching & (gap <= hold_gap)
-        touching = touching | (drifted & (dv >= -separation_speed) & (dv <= creep_speed))
+        touching = touching | (drifted & (dv >= -separation_speed) & (dv <= resting_speed))
         limit = np.where(held, resting_speed, separation_speed)
     # plain ints (IntEnum attribute access is slow on this hot path)
     mode = np.where(dv < -resting_speed, 1, np.where(dv <= limit, 2, 3))

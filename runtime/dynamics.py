@@ -83,6 +83,13 @@ class ContactDynamics:
         if self.stabilisation is not None:
             b = b + self.stabilisation.damping * rows.gap_velocity
             b = b + self.stabilisation.stiffness * rows.gap
+        if not (np.all(np.isfinite(a_matrix)) and np.all(np.isfinite(b))):
+            with np.errstate(all="ignore"):
+                fastest = float(np.max(np.abs(velocities)))
+            raise FloatingPointError(
+                f"the contact terms of {len(contacts)} contact(s) are not finite: the state "
+                f"overflows float64 (largest velocity component {fastest:.3g})"
+            )
         forces = self.solver(a_matrix, b)
         acc = self.free_acceleration.ravel() + jm.T @ forces
         return ContactSolution(acc.reshape(-1, 3), forces, rows, b)

@@ -35,11 +35,14 @@ import numpy as np
 from runtime import sweep
 from runtime.collisions import Frame, Limits, Mode, contact_key, make_frame
 from runtime.dynamics import ContactDynamics, Stabilisation
+from runtime.guards import Guards, contact_names, deepest_overlap, energy_scale
 from runtime.impact_time import ImpactSearch
 from runtime.integrators import ADAPTIVE, FIXED_STEP, METHODS
 from runtime.lcp import ContactSolverError
 from runtime.resting import settle
 from runtime.warm_start import WarmStartSolver
+
+DRIFT = 1e-3  # see Simulator._limits
 
 
 class SimulationError(RuntimeError):
@@ -141,6 +144,7 @@ class Simulator:
         self.rtol, self.atol = rtol, atol
         touch = min(touch, scene.contact_tolerance)
         self.limits = Limits.default(resting_speed, touch, scene.contact_tolerance)
+        self._step_limits: dict[float, Limits] = {}
         self.max_events = max_events
         self.n = len(scene.bodies)
         self.shapes, self.fixed = scene.shapes, scene.fixed
@@ -239,6 +243,7 @@ class Simulator:
         """
         remaining, first, events = dt, None, 0
         self.recent = set(self.held)  # resting at the end of the last step
+        self.limits = self._limits(dt)
         while True:
             frame, solution = settle(
                 self.dynamics,
@@ -261,6 +266,19 @@ class Simulator:
             events += 1
             if events > self.max_events:
                 raise RuntimeError(f"more than {self.max_events} impacts within one step")
+
+    def _limits(self, dt: float) -> Limits:
+        """The contact limits for steps of ``dt``: a resting contact may drift off a curved
+        surface by a small part (DRIFT) of the free-fall distance g dt^2 / 2 in one step and
+        still be held (runtime.collisions.classify), so large steps do not turn it into an
+        impact every few steps."""
+        if dt not in self._step_limits:
+            drift = DRIFT * 0.5 * self.gravity * dt * dt
+            tolerance = self.scene.contact_tolerance
+            self._step_limits[dt] = Limits.default(
+                self.resting_speed, self.limits.touch, tolerance, drift
+            )
+        return self._step_limits[dt]
 
     def _record(self, frame: Frame, poses, solution):
         """(resting contacts, their forces) to record: lifting contacts count as resting."""
@@ -288,6 +306,9 @@ class Simulator:
         return self.search.first(frame, traj, h)
 
 
+DEFAULT_GUARDS = Guards()
+
+
 def simulate(
     scene,
     duration: float | None = None,
@@ -300,8 +321,14 @@ def simulate(
     atol: float = 1e-12,
     record_every: int = 1,
     progress: Callable[[float], None] | None = None,
+    guards: Guards = DEFAULT_GUARDS,
 ) -> Run:
-    """Run `scene` for `duration` seconds (defaults from the scene's [simulation] table)."""
+    """Run `scene` for `duration` seconds (defaults from the scene's [simulation] table).
+
+    Raises SimulationError when a step fails (the contact solver, a non-finite state) or a
+    guard trips (runtime.guards: penetration, energy growth); its ``run`` holds what was recorded
+    up to the last good step and its ``state`` the state before the failing step.
+    """
     defaults = scene.simulation
     duration = defaults.duration if duration is None else float(duration)
     dt = defaults.dt if dt is None else float(dt)
@@ -310,49 +337,38 @@ def simulate(
     sim = Simulator(scene, method, stabilisation, resting_speed, rtol, atol)
     run = Run(scene.name, method, dt)
     poses, vel = scene.poses(), scene.velocities()
+    with np.errstate(all="ignore"):
+        watch = _Watch(scene, guards, sim.radii, mechanical_energy(scene, poses, vel), run)
     steps = int(round(duration / dt))
     start = time.perf_counter()
     t = 0.0
     for k in range(steps + 1):
-        try:
-            if k == steps:
-                resting, vel, _ = sim.classify(poses, vel)
-                solution = sim.dynamics.solve(resting, poses, vel)
-                new = None
-            else:
-                before = len(sim.impact_times)
-                new_poses, new_vel, resting, solution = sim.step(poses, vel, dt)
-                run.impact_times += [t + tau for tau in sim.impact_times[before:]]
-                new = (new_poses, new_vel)
-        except (ContactSolverError, RuntimeError, FloatingPointError) as exc:
-            names = sorted(
-                {
-                    f"{scene.bodies[c.body1].name}/{scene.bodies[c.body2].name}"
-                    for c in sim.scene.find_contacts(poses)
-                }
-            )
-            raise SimulationError(
-                f"step {k} at t = {t:.6g} s failed ({exc}); contacts: {', '.join(names) or 'none'}",
-                run,
-                (poses.copy(), vel.copy()),
-            ) from exc
-        if k % record_every == 0 or k == steps:
-            run.t.append(t)
-            run.poses.append(poses.copy())
-            run.velocities.append(vel.copy())
-            run.energy.append(mechanical_energy(scene, poses, vel))
-            run.momentum.append(linear_momentum(scene, vel))
-            run.contacts.append(resting)
-            run.contact_forces.append(solution.forces)
-            run.min_gap.append(sim.last_frame.min_gap if sim.last_frame else np.inf)
-        if new is None:
-            break
-        if not (np.all(np.isfinite(new[0])) and np.all(np.isfinite(new[1]))):
-            raise SimulationError(
-                f"step {k} at t = {t:.6g} s produced a non-finite state",
-                run,
-                (poses.copy(), vel.copy()),
-            )
+        with np.errstate(all="ignore"):  # overflow shows as a non-finite value, checked below
+            try:
+                if k == steps:
+                    resting, vel, _ = sim.classify(poses, vel)
+                    solution = sim.dynamics.solve(resting, poses, vel)
+                    new = None
+                else:
+                    before = len(sim.impact_times)
+                    new_poses, new_vel, resting, solution = sim.step(poses, vel, dt)
+                    run.impact_times += [t + tau for tau in sim.impact_times[before:]]
+                    new = (new_poses, new_vel)
+            except (ContactSolverError, RuntimeError, FloatingPointError, ValueError) as exc:
+                raise watch.failure(k, t, f"failed ({exc})", poses, vel) from exc
+            watch.penetration(sim.last_frame, k, t, poses, vel)
+            if k % record_every == 0 or k == steps:
+                run.t.append(t)
+                run.poses.append(poses.copy())
+                run.velocities.append(vel.copy())
+                run.energy.append(mechanical_energy(scene, poses, vel))
+                run.momentum.append(linear_momentum(scene, vel))
+                run.contacts.append(resting)
+                run.contact_forces.append(solution.forces)
+                run.min_gap.append(sim.last_frame.min_gap if sim.last_frame else np.inf)
+            if new is None:
+                break
+            watch.after_step(k, t, (poses, vel), new, method)
         poses, vel = new
         t = (k + 1) * dt
         if progress is not None:
@@ -360,3 +376,59 @@ def simulate(
     run.rhs_evaluations = sim.evaluations
     run.wall_time = time.perf_counter() - start
     return run
+
+
+class _Watch:
+    """The guards of one run (runtime.guards) and the SimulationError messages, built in one
+    place so every failure names the step, the time and the contacts the same way."""
+
+    def __init__(self, scene, guards: Guards, radii: np.ndarray, energy: float, run: Run):
+        self.scene, self.guards, self.radii, self.run = scene, guards, radii, run
+        self.energy0 = energy
+        self.scale = energy_scale(scene, radii) if guards.energy_growth is not None else 0.0
+        self.previous: tuple | None = None  # (step, t, poses, velocities) before the last step
+
+    def failure(self, k: int, t: float, what: str, poses, vel) -> SimulationError:
+        with np.errstate(all="ignore"):
+            found = self.scene.find_contacts(poses) if np.all(np.isfinite(poses)) else []
+        return SimulationError(
+            f"step {k} at t = {t:.6g} s {what}; contacts: {contact_names(self.scene, found)}",
+            self.run,
+            (poses.copy(), vel.copy()),
+        )
+
+    def penetration(self, frame: Frame | None, k: int, t: float, poses, vel) -> None:
+        """Raise if the contacts at the start of step k overlap too deeply: the step before made
+        them (or, at k = 0, the scene starts that way)."""
+        limit = self.guards.penetration
+        found = None if limit is None or frame is None else deepest_overlap(frame, self.radii)
+        if found is None or found[1] <= limit:
+            return
+        depth, relative, contact = found
+        pair = contact_names(self.scene, [contact])
+        size = f"{depth:.3g} m, {relative:.3g} of the smaller body's size (limit {limit:g})"
+        if self.previous is None:
+            raise self.failure(k, t, f"starts with {pair} overlapping by {size}", poses, vel)
+        raise self.failure(
+            *self.previous[:2],
+            f"left {pair} overlapping by {size}: the time step is too large",
+            *self.previous[2:],
+        )
+
+    def after_step(self, k: int, t: float, state, new, method: str) -> None:
+        """Raise if step k produced a non-finite state or raised the energy too far."""
+        if not (np.all(np.isfinite(new[0])) and np.all(np.isfinite(new[1]))):
+            raise self.failure(k, t, "produced a non-finite state", *state)
+        if self.scale > 0:
+            energy = mechanical_energy(self.scene, *new)
+            if energy - self.energy0 > self.guards.energy_growth * self.scale:
+                raise self.failure(
+                    k,
+                    t,
+                    f"raised the energy from {self.energy0:.6g} J at t = 0 to {energy:.6g} J, "
+                    f"more than {self.guards.energy_growth:g} x the scene's energy scale "
+                    f"{self.scale:.3g} J (no contact adds energy): the time step is too large "
+                    f"for {method}",
+                    *state,
+                )
+        self.previous = (k, t, *state)

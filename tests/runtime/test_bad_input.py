@@ -11,10 +11,9 @@ cases here are the ones those files do not test, plus the runtime failures.
   or table and field, and contain the listed parts.
 * CLI: a scene path that is a directory or not UTF-8 text, ``regenerate-equations --cases ,``.
 * Runtime: the contact solver failing (monkeypatched, and a truly infeasible contact set), a
-  non-finite state: a SimulationError naming the step, the time and the contacts, with
+  non-finite state or contact terms, a tunnelling time step, an energy blow-up (the guards of
+  runtime/guards.py): a SimulationError naming the step, the time and the contacts, with
   ``.state`` the state at the start of the failing step and ``.run`` the steps before it.
-  Failures of the engine that are not yet a clear exception (tunnelling, energy blow-up,
-  non-finite LCP input) are ``xfail(strict=True)`` with the reason: they pass once fixed.
 """
 
 from __future__ import annotations
@@ -28,6 +27,7 @@ import re
 import sys
 import tempfile
 import textwrap
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -583,28 +583,12 @@ def test_a_non_finite_state_is_never_kept(monkeypatch):
             assert np.all(np.isfinite(values)), key
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="runtime/simulation.py: NaN accelerations with resting contacts reach runtime.lcp, "
-    "whose ValueError('A and b must be finite') escapes simulate (only ContactSolverError, "
-    "RuntimeError and FloatingPointError are caught); and the 'non-finite state' "
-    "SimulationError does not name the contacts. Fix: catch ValueError from the step as "
-    "well, and build both messages with one helper listing the contacts' bodies.",
-)
 def test_nan_with_contacts_is_a_simulation_error_naming_them(monkeypatch):
     _fail_from(monkeypatch, 1, _nan)
     with pytest.raises(runtime.SimulationError, match=r"^step 0 at t = 0 s.*resting/floor"):
         runtime.simulate(_small_scene())
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="runtime/simulation.py catches ContactSolverError, RuntimeError and "
-    "FloatingPointError, but a state whose kernel terms overflow (w = 1e200 rad/s here) "
-    "makes runtime.lcp raise ValueError('A and b must be finite'), which escapes simulate "
-    "as a bare ValueError. Fix: catch ValueError from the step too (or have "
-    "dynamics.solve raise FloatingPointError on non-finite A or b).",
-)
 def test_overflowing_contact_terms_are_a_simulation_error():
     from runtime.scene import Body, Scene
 
@@ -612,33 +596,46 @@ def test_overflowing_contact_terms_are_a_simulation_error():
     disc = Body.from_shape(
         "disc", shapes.disc(0.1), density=1.0, position=(0.0, 0.1), angular_velocity=1e200
     )  # the Python API checks no magnitudes; a scene file refuses this spin
-    with pytest.raises(runtime.SimulationError, match=r"^step 0 at t = 0 s"):
-        runtime.simulate(Scene("spin", [floor, disc]), duration=0.002, dt=0.001)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # never a NumPy overflow warning on the way
+        with pytest.raises(runtime.SimulationError) as info:
+            runtime.simulate(Scene("spin", [floor, disc]), duration=0.002, dt=0.001)
+    message = str(info.value)
+    assert message.startswith("step 0 at t = 0 s failed (the contact terms of 1 contact(s)")
+    assert "not finite" in message and "1e+200" in message and message.endswith("disc/floor")
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="runtime/simulation.py does not watch the energy: explicit Euler at dt = 0.05 s "
-    "pumps the disc in the bowl from E = -265 J to +950 J in 20 s without an error. Fix: "
-    "after each step compare the mechanical energy with E(0) + growth_limit x an energy "
-    "scale (kinetic energy + m |g| x the scene's height) and raise SimulationError naming "
-    "the step, the time, the energies and the contacts.",
-)
 def test_energy_blow_up_is_a_simulation_error():
+    """Explicit Euler at dt = 0.05 s pumps the disc in the bowl (E(0) = -265 J) up: the energy
+    guard stops it when E rises by half the energy scale, with the energies in the message."""
     scene = load_scene(SCENES / "disc_in_bowl.toml")
-    with pytest.raises(runtime.SimulationError, match=r"^step \d+ at t = .*energy"):
+    off = runtime.Guards(penetration=None)  # else the penetration guard stops it first
+    with pytest.raises(runtime.SimulationError) as info:
+        runtime.simulate(scene, duration=20.0, dt=0.05, method="euler", guards=off)
+    found = re.match(r"^step (\d+) at t = \S+ s raised the energy from (\S+) J at t = 0 to (\S+) J, "
+                     r"more than 0.5 x the scene's energy scale (\S+) J", str(info.value))  # fmt: skip
+    assert found, str(info.value)
+    k, e0, e1, scale = int(found[1]), *map(float, found.group(2, 3, 4))
+    assert e1 - e0 > 0.5 * scale
+    energies = info.value.run.energy  # the recorded steps before: all within the bound
+    assert len(energies) == k + 1 and max(energies) - e0 <= 0.5 * scale
+
+
+def test_euler_drifting_into_the_bowl_is_a_penetration_error():
+    scene = load_scene(SCENES / "disc_in_bowl.toml")
+    with pytest.raises(runtime.SimulationError) as info:
         runtime.simulate(scene, duration=20.0, dt=0.05, method="euler")
+    assert re.match(r"^step \d+ at t = \S+ s left disc/bowl overlapping by \S+ m", str(info.value))
+    poses, velocities = info.value.state
+    assert np.all(np.isfinite(poses)) and np.all(np.isfinite(velocities))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="runtime/simulation.py (+ sweep/impact_time): a half disc rocking on its corner "
-    "(restitution 1, dt = 0.08 s) misses the impact of its arc, sinks 0.2 m into the floor "
-    "at t = 1.3 s and falls through it, with no error. Fix: after each step check the "
-    "contacts at the new poses with tolerance 0 (and the sampled deep overlaps of "
-    "runtime/scene_overlap.py) and raise SimulationError('... penetration of X m at "
-    "<bodies>: the time step is too large') instead of going on.",
-)
+@pytest.mark.parametrize("value", [0.0, -1.0, math.nan, math.inf])
+def test_guard_limits_must_be_positive_numbers(value):
+    with pytest.raises(ValueError, match="penetration must be a finite number > 0 or None"):
+        runtime.Guards(penetration=value)
+
+
 def test_a_tunnelling_time_step_is_a_simulation_error():
     data = {
         "body": [
@@ -654,7 +651,7 @@ def test_a_tunnelling_time_step_is_a_simulation_error():
     try:
         run = runtime.simulate(scene)
     except runtime.SimulationError as exc:
-        assert MESSAGE.match(str(exc)) and "half/floor" in str(exc)
+        assert MESSAGE.match(str(exc)) and "left half/floor overlapping by" in str(exc)
         return
     lowest = min(p[1, 1] for p in run.poses)  # the centre of mass, 0.21 m above the arc
     assert lowest > 0.0, f"the half disc fell through the floor (y = {lowest:.3g} m)"

@@ -223,7 +223,7 @@ def test_contact_modes_are_explicit():
         (1e-12, -1e-4, True, Mode.RESTING),
         (5e-8, 1e-12, True, Mode.RESTING),  # drifted apart by less than the hold gap
         (5e-8, -1e-4, True, Mode.RESTING),  # and coming back slowly: no new impact
-        (5e-8, 1e-4, True, Mode.OPEN),  # moving apart: let go (a force would feed energy in)
+        (5e-8, 1e-4, True, Mode.RESTING),  # moving apart slowly: pressed or lifting (resting.py)
         (5e-8, -2e-3, True, Mode.OPEN),  # coming back fast: its impact is located
         (1e-6, 1e-4, True, Mode.OPEN),  # beyond the hold gap: let go
         (5e-8, -1e-4, False, Mode.OPEN),  # a new contact must close to d = 0 first

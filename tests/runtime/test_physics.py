@@ -50,6 +50,22 @@ def test_disc_in_bowl_follows_the_pendulum_and_its_contact_force():
     assert np.max(np.abs(vel[:, 2])) == 0.0  # frictionless: no torque about the disc's centre
 
 
+@pytest.mark.parametrize("dt, tolerance", [(0.02, 1e-8), (0.05, 1e-6), (0.1, 1e-5)])
+def test_large_rk4_steps_keep_the_bowl_contact_resting(dt, tolerance):
+    """At steps of 1/100 to 1/20 of the period the integrator carries the disc up to 3e-5 m off
+    the bowl per step; the contact stays resting (no impacts) and every step reports the force
+    m (g cos phi + v^2 / (R - r)) of its state (measured: 2.9e-9, 1.2e-7, 2.2e-6 relative)."""
+    scene = runtime.load_scene(SCENES / "disc_in_bowl.toml")
+    run = runtime.simulate(scene, duration=2.0, dt=dt, method="rk4")
+    disc = scene.index("disc")
+    poses, vel = np.array(run.poses)[:, disc], np.array(run.velocities)[:, disc]
+    phi = np.arctan2(poses[:, 0], -poses[:, 1])
+    expected = scene.bodies[disc].mass * (G * np.cos(phi) + (vel[:, :2] ** 2).sum(1) / 0.9)
+    assert run.impact_times == [] and all(len(f) == 1 for f in run.contact_forces)
+    forces = np.array([f[0] for f in run.contact_forces])
+    assert np.max(np.abs(forces / expected - 1.0)) < tolerance
+
+
 def test_disc_on_incline_slides_with_g_sin30():
     scene = runtime.load_scene(SCENES / "disc_on_incline.toml")
     run = runtime.simulate(scene, duration=0.3, dt=1e-3, method="rk4", record_every=10)

@@ -39,6 +39,7 @@ import numpy as np
 import sympy as sp
 
 from bench import baseline_numpy
+from bench.machine import cpu
 
 CASES = ("vertex_edge", "vertex_circle", "circle_edge", "circle_circle")
 FUNCTIONS = (
@@ -458,17 +459,9 @@ def targets(timings: list[Timing]) -> list[str]:
 
 
 def machine() -> str:
-    """Date, CPU model and cores, Python, NumPy, SymPy and BLAS versions."""
-    model, cores = platform.processor() or "unknown CPU", os.cpu_count()
-    try:
-        lscpu = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
-        fields = dict(re.findall(r"^([^:\n]+):\s*(.*)$", lscpu, flags=re.M))
-        model = fields.get("Model name", model)
-        cores = int(fields.get("Core(s) per socket", 0)) * int(fields.get("Socket(s)", 0)) or cores
-    except (OSError, subprocess.CalledProcessError, ValueError):
-        pass
+    """CPU model and cores, Python, NumPy, SymPy and BLAS versions."""
     return (
-        f"{model}, {cores} cores; Python {platform.python_version()}, NumPy {np.__version__}, "
+        f"{cpu()}; Python {platform.python_version()}, NumPy {np.__version__}, "
         f"SymPy {sp.__version__}; BLAS: {blas()}"
     )
 

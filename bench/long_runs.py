@@ -33,6 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
+from bench.machine import cpu
+
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "bench" / "README.md"
 SECTION = "## Long runs"
@@ -82,21 +84,6 @@ def constraint_drift(name: str, min_gap) -> np.ndarray:
     """|gap| for the bowl (either way), the penetration for the stack (its largest gap is 0)."""
     gaps = np.asarray(min_gap, dtype=float)
     return np.abs(gaps) if name == "disc_in_bowl" else np.maximum(0.0, -gaps)
-
-
-def _pendulum(phi0: float, length: float, times: np.ndarray) -> np.ndarray:
-    from scipy.integrate import solve_ivp
-
-    sol = solve_ivp(
-        lambda _t, y: [y[1], -G / length * math.sin(y[0])],
-        (0.0, float(times[-1])),
-        [phi0, 0.0],
-        method="DOP853",
-        rtol=1e-12,
-        atol=1e-14,
-        t_eval=times,
-    )
-    return sol.y[0]
 
 
 def measure(name: str, steps: int = STEPS, dt: float = DT) -> dict:
@@ -156,9 +143,12 @@ def measure(name: str, steps: int = STEPS, dt: float = DT) -> dict:
     out["gap_law"] = float(np.max(constraint_drift(name, gaps) / gap_bound(name, k)))
     moving = [i for i, b in enumerate(scene.bodies) if not b.fixed]
     if name == "disc_in_bowl":
-        disc = scene.index("disc")
-        phi = np.arctan2(poses[:, disc, 0], -poses[:, disc, 1])
-        out["phase_error"] = float(np.max(np.abs(phi - _pendulum(0.3, 0.9, t))))
+        from bench.references import BowlReference  # the report's pendulum (solve_ivp)
+
+        reference = BowlReference(scene, float(t[-1]))
+        rel = poses[:, scene.index("disc"), :2] - reference.centre
+        phi = np.arctan2(rel[:, 0], -rel[:, 1])
+        out["phase_error"] = float(np.max(np.abs(phi - reference.solution.sol(t)[0])))
     else:
         out["creep_xy"] = float(np.max(np.abs(poses[:, moving, :2] - poses[0, moving, :2])))
         out["creep_angle"] = float(np.max(np.abs(poses[:, moving, 2] - poses[0, moving, 2])))
@@ -171,15 +161,7 @@ def measure(name: str, steps: int = STEPS, dt: float = DT) -> dict:
 
 
 def _machine() -> str:
-    model = platform.processor() or platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return f"{model}, {os.cpu_count()} cores; Python {platform.python_version()}, NumPy {np.__version__}"
+    return f"{cpu()}; Python {platform.python_version()}, NumPy {np.__version__}"
 
 
 def report(results: list[dict], elapsed: float, jobs: int, load: tuple[float, float]) -> str:

@@ -38,11 +38,9 @@ import collections
 import datetime
 import json
 import math
-import os
 import platform
 import re
 import signal
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -54,6 +52,8 @@ sys.path.insert(0, str(ROOT / "tests"))  # tests/strategies.py: the generator an
 import numpy as np  # noqa: E402
 import strategies as S  # noqa: E402
 from hypothesis import HealthCheck, Phase, given, settings  # noqa: E402
+
+from bench.machine import cpu  # noqa: E402
 
 README = ROOT / "bench" / "README.md"
 SECTION = "## Soak"
@@ -67,18 +67,6 @@ class SceneTimeout(BaseException):  # not caught by the checks' `except Exceptio
 
 def _alarm(_signum, _frame):
     raise SceneTimeout
-
-
-def machine() -> str:
-    """CPU model and core count."""
-    model, cores = platform.processor() or "unknown CPU", os.cpu_count()
-    try:
-        lscpu = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
-        fields = dict(re.findall(r"^([^:\n]+):\s*(.*)$", lscpu, flags=re.M))
-        model = fields.get("Model name", model)
-    except (OSError, subprocess.CalledProcessError):
-        pass
-    return f"{model}, {cores} cores"
 
 
 class Soak:
@@ -195,7 +183,7 @@ def section(soak: Soak, minutes: float, wall: float) -> str:
         "Written by `python -m bench.soak` (`make soak`, not in CI); rerun it to refresh this "
         "section.",
         "",
-        f"Run {when} on {machine()}; Python {platform.python_version()}, NumPy "
+        f"Run {when} on {cpu()}; Python {platform.python_version()}, NumPy "
         f"{np.__version__}. {minutes:g} minutes asked, {wall:.0f} s taken: {total} random "
         f"scenes ({bodies} moving bodies; sizes 1e-3 .. 1e3 m; a floor or a box; 20-200 "
         f"steps each, {soak.steps} steps in all, {soak.scene_time / max(total, 1):.2f} s a "

@@ -29,7 +29,6 @@ import os
 import platform
 import re
 import signal
-import subprocess
 import sys
 import time
 from contextlib import contextmanager
@@ -39,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 import runtime
+from bench.machine import cpu
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "bench" / "README.md"
@@ -54,19 +54,6 @@ DT = 1e-3  # s, the scenes' default step
 BUDGET = 30.0  # s of wall time per pile (checked between chunks)
 MAX_STEPS = {"resting": 40, "falling": 200}  # a falling pile lands within ~100 steps
 CHUNK_TIME = 0.5  # s of wall time per `simulate` call, about (a cut chunk loses contacts)
-
-
-def machine() -> str:
-    """CPU model and core count (lscpu), for the reports that quote timings."""
-    model, cores = platform.processor() or "unknown CPU", os.cpu_count()
-    try:
-        lscpu = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
-        fields = dict(re.findall(r"^([^:\n]+):\s*(.*)$", lscpu, flags=re.M))
-        model = fields.get("Model name", model)
-        cores = int(fields.get("Core(s) per socket", 0)) * int(fields.get("Socket(s)", 0)) or cores
-    except (OSError, subprocess.CalledProcessError, ValueError):
-        pass
-    return f"{model}, {cores} cores"
 
 
 def replace_section(path: Path, heading: str, body: str, before: str | None = None) -> None:
@@ -280,7 +267,7 @@ def _row(t: PileTiming) -> str:
         f"| {t.discs} | {t.kind} | {len(t.step_times)} | {t.steps_per_second:.3g} | "
         f"{1e3 * np.median(t.step_times):.3g} [{1e3 * t.step_times.max():.3g}] | "
         f"{counts} | "
-        f"{1e6 * np.median(per_contact) if per_contact.size else math.nan:.3g} |"
+        f"{f'{1e6 * np.median(per_contact):.3g}' if per_contact.size else '—'} |"
     )
 
 
@@ -292,7 +279,7 @@ def section(timings: list[PileTiming], fit: tuple[float, float, int], elapsed: f
     lines = [
         SECTION,
         "",
-        f"Written by `python -m bench.steps` (`make bench`); run {now} on {machine()}, Python "
+        f"Written by `python -m bench.steps` (`make bench`); run {now} on {cpu()}, Python "
         f"{platform.python_version()}, NumPy {np.__version__}; {elapsed:.0f} s, 1-minute load "
         f"average {load:.1f} at the end (other processes share the cores).",
         "",

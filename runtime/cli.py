@@ -75,6 +75,20 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--fps", type=float, default=30.0, help="animation frames per simulated second (default 30)"
     )
+    parser.add_argument(
+        "--max-penetration",
+        metavar="X|off",
+        default="0.01",
+        help="stop when two bodies overlap by more than X times the smaller one's size "
+        "(default 0.01; runtime.Guards)",
+    )
+    parser.add_argument(
+        "--max-energy-growth",
+        metavar="X|off",
+        default="0.5",
+        help="stop when the energy rises by more than X times the scene's energy scale "
+        "(default 0.5; runtime.Guards)",
+    )
     parser.add_argument("--no-gif", action="store_true", help="do not write animation.gif")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
@@ -137,6 +151,22 @@ def _check_arguments(args: argparse.Namespace) -> None:
             )
     if not (math.isfinite(args.fps) and args.fps > 0):
         raise UsageError(f"--fps must be a finite number > 0, got {args.fps!r}")
+    for option in ("max_penetration", "max_energy_growth"):
+        setattr(args, option, _guard_limit(option, getattr(args, option)))
+
+
+def _guard_limit(option: str, text: str) -> float | None:
+    """A guard's limit from the command line: a number > 0, or 'off' (None)."""
+    if text.strip().lower() == "off":
+        return None
+    flag = "--" + option.replace("_", "-")
+    try:
+        value = float(text)
+    except ValueError:
+        raise UsageError(f"{flag} must be a number > 0 or 'off', got {text!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise UsageError(f"{flag} must be a number > 0 or 'off', got {text!r}")
+    return value
 
 
 def _check_output(out: Path, force: bool) -> None:
@@ -283,7 +313,8 @@ def run_command(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     error = None
     try:
-        run = runtime.simulate(scene, duration, dt, args.method, progress=bar)
+        guards = runtime.Guards(args.max_penetration, args.max_energy_growth)
+        run = runtime.simulate(scene, duration, dt, args.method, progress=bar, guards=guards)
     except runtime.SimulationError as exc:
         run, error = exc.run, str(exc)
     except ValueError as exc:  # the engine's own argument checks

@@ -255,8 +255,21 @@ BAD_SCENE = SMALL_SCENE.replace("radius = 0.1 }", "radius = -0.1 }")
         (["--duration", "inf"], ["--duration", "inf"]),
         (["--dt", "0.5", "--duration", "0.1"], ["--dt", "duration"]),
         (["--fps", "0"], ["--fps"]),
+        (["--max-penetration", "0"], ["--max-penetration", "'off'"]),
+        (["--max-energy-growth", "lots"], ["--max-energy-growth", "lots", "'off'"]),
     ],
-    ids=["dt-zero", "dt-negative", "dt-nan", "dt-text", "method", "duration", "dt-long", "fps"],
+    ids=[
+        "dt-zero",
+        "dt-negative",
+        "dt-nan",
+        "dt-text",
+        "method",
+        "duration",
+        "dt-long",
+        "fps",
+        "penetration-zero",
+        "energy-text",
+    ],
 )
 def test_bad_arguments_exit_2_with_one_line(tmp_path, capsys, args, expected):
     scene = write_scene(tmp_path)
@@ -352,3 +365,18 @@ def test_every_shipped_scene_end_to_end(tmp_path, capsys, path):
     if gif:
         with Image.open(out / "animation.gif") as image:
             assert image.n_frames > 1
+
+
+def test_guards_stop_a_spoilt_run_unless_turned_off(tmp_path, capsys):
+    """Explicit Euler at 0.05 s lets the disc drift into the bowl: the penetration guard stops
+    the run (exit 1, the steps before written); with both guards off it runs to the end."""
+    scene = str(SCENES / "disc_in_bowl.toml")
+    args = [scene, "--duration", "1", "--dt", "0.05", "--method", "euler", "--no-gif"]
+    assert cli.main([*args, "--out", str(tmp_path / "on")]) == 1
+    err = capsys.readouterr().err
+    assert "simulation failed: step 5 at t = 0.25 s left disc/bowl overlapping by" in err
+    summary = json.loads((tmp_path / "on" / "summary.json").read_text())
+    assert summary["status"] == "failed"
+    off = ["--max-penetration", "off", "--max-energy-growth", "off"]
+    assert cli.main([*args, *off, "--out", str(tmp_path / "off")]) == 0
+    assert np.load(tmp_path / "off" / "trajectory.npz")["t"][-1] == pytest.approx(1.0)

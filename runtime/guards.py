@@ -8,7 +8,10 @@ the bodies and the size of the problem. Both limits are relative, so they hold f
 any size:
 
 * ``penetration``: the deepest overlap of two bodies, in units of the smaller body's bounding
-  radius (a located impact leaves ~1e-12 m; 1e-2 of a body's size is a missed impact);
+  radius (a located impact leaves ~1e-12 m; 1e-2 of a body's size is a missed impact); and,
+  with the same switch, a centre of mass whose path over a step crosses an edge of a fixed body
+  (:class:`FixedEdges`): a body that passed through a wall within one step leaves no overlap
+  behind to measure;
 * ``energy_growth``: the rise of the mechanical energy above its value at t = 0, in units of the
   scene's energy scale (kinetic energy + m |g| x the scene's height, summed over the moving
   bodies). Frictionless contacts do no work and restitution <= 1, so physics only takes energy
@@ -20,6 +23,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from runtime.shapes import TAU, Arc, Segment
 
 
 @dataclass(frozen=True)
@@ -67,3 +72,69 @@ def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, object] | N
     size = np.array([min(radii[c.body1], radii[c.body2]) for c in frame.contacts])
     k = int(np.argmax(depth / size))
     return float(depth[k]), float(depth[k] / size[k]), frame.contacts[k]
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+class FixedEdges:
+    """The fixed bodies' segments and arcs in world coordinates, to find a centre of mass that
+    went through one of them in a step (the straight path from its start to its end crosses
+    the edge). A centre never crosses another body's boundary in a valid motion: it would have
+    to overlap that body by more than its own distance to its boundary. Elliptic edges are not
+    checked (no fixed body has one in the shipped shapes)."""
+
+    def __init__(self, scene):
+        poses = scene.poses()
+        starts, ends, self.segment_owner, self.arcs = [], [], [], []
+        for j, (body, shape) in enumerate(zip(scene.bodies, scene.shapes, strict=True)):
+            if not body.fixed:
+                continue
+            x, y, th = poses[j]
+            c, s = np.cos(th), np.sin(th)
+
+            def world(p, x=x, y=y, c=c, s=s):
+                return (x + c * p[0] - s * p[1], y + s * p[0] + c * p[1])
+
+            for edge in shape.edges:
+                if isinstance(edge, Segment):
+                    starts.append(world(edge.start))
+                    ends.append(world(edge.end))
+                    self.segment_owner.append(j)
+                elif isinstance(edge, Arc):
+                    self.arcs.append((j, np.array(world(edge.centre)), abs(edge.radius), edge, th))
+        self.starts = np.array(starts, dtype=float).reshape(-1, 2)
+        self.ends = np.array(ends, dtype=float).reshape(-1, 2)
+
+    def crossing(self, p0: np.ndarray, p1: np.ndarray) -> tuple[int, int] | None:
+        """(row of p0, fixed body) of the first path p0[i] -> p1[i] ((n, 2) arrays) that crosses
+        a fixed edge, or None."""
+        d = p1 - p0
+        moved = np.any(d != 0.0, axis=1)
+        with np.errstate(all="ignore"):
+            if len(self.starts):
+                e = self.ends - self.starts
+                w = self.starts[None, :, :] - p0[:, None, :]
+                denom = _cross(d[:, None, :], e[None, :, :])
+                t = _cross(w, e[None, :, :]) / denom
+                u = _cross(w, d[:, None, :]) / denom
+                hit = (denom != 0) & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
+                hit &= moved[:, None]
+                if hit.any():
+                    i, k = (int(v[0]) for v in np.nonzero(hit))
+                    return i, self.segment_owner[k]
+            for owner, centre, radius, arc, turn in self.arcs:
+                f = p0 - centre
+                a, b = np.sum(d * d, axis=1), 2.0 * np.sum(d * f, axis=1)
+                disc = b * b - 4.0 * a * (np.sum(f * f, axis=1) - radius * radius)
+                root = np.sqrt(np.maximum(disc, 0.0))
+                for sign in (-1.0, 1.0):
+                    t = (-b + sign * root) / (2.0 * a)
+                    point = f + t[:, None] * d
+                    angle = np.arctan2(point[:, 1], point[:, 0]) - turn
+                    inside = (angle - arc.start_angle) % TAU <= arc.span
+                    hit = moved & (disc >= 0) & (t >= 0) & (t <= 1) & inside
+                    if hit.any():
+                        return int(np.flatnonzero(hit)[0]), owner
+        return None

@@ -35,7 +35,7 @@ import numpy as np
 from runtime import sweep
 from runtime.collisions import Frame, Limits, Mode, contact_key, make_frame
 from runtime.dynamics import ContactDynamics, Stabilisation
-from runtime.guards import Guards, contact_names, deepest_overlap, energy_scale
+from runtime.guards import FixedEdges, Guards, contact_names, deepest_overlap, energy_scale
 from runtime.impact_time import ImpactSearch
 from runtime.integrators import ADAPTIVE, FIXED_STEP, METHODS
 from runtime.lcp import ContactSolverError
@@ -387,6 +387,8 @@ class _Watch:
         self.energy0 = energy
         self.scale = energy_scale(scene, radii) if guards.energy_growth is not None else 0.0
         self.previous: tuple | None = None  # (step, t, poses, velocities) before the last step
+        self.moving = np.flatnonzero(~np.asarray(scene.fixed, dtype=bool))
+        self.edges = FixedEdges(scene) if guards.penetration is not None else None
 
     def failure(self, k: int, t: float, what: str, poses, vel) -> SimulationError:
         with np.errstate(all="ignore"):
@@ -419,6 +421,21 @@ class _Watch:
         """Raise if step k produced a non-finite state or raised the energy too far."""
         if not (np.all(np.isfinite(new[0])) and np.all(np.isfinite(new[1]))):
             raise self.failure(k, t, "produced a non-finite state", *state)
+        if self.edges is not None:
+            start, end = state[0][self.moving, :2], new[0][self.moving, :2]
+            crossed = self.edges.crossing(start, end)
+            if crossed is not None:
+                body, wall = (
+                    self.scene.bodies[self.moving[crossed[0]]],
+                    self.scene.bodies[crossed[1]],
+                )
+                raise self.failure(
+                    k,
+                    t,
+                    f"moved the centre of mass of {body.name} through {wall.name} (it tunnelled): "
+                    "the time step is too large",
+                    *state,
+                )
         if self.scale > 0:
             energy = mechanical_energy(self.scene, *new)
             if energy - self.energy0 > self.guards.energy_growth * self.scale:

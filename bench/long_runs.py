@@ -25,7 +25,6 @@ import datetime
 import math
 import os
 import platform
-import re
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -34,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from bench.machine import cpu
+from bench.markdown import replace_section
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "bench" / "README.md"
@@ -264,19 +264,6 @@ def _table(header: list[str], rows: list[list[str]]) -> str:
     return "\n".join(lines)
 
 
-def write_section(section: str, path: Path = README) -> None:
-    """Replace the "## Long runs" section (up to the next "## " heading) or append it; the
-    other sections of the file belong to other benchmarks and are left as they are."""
-    text = path.read_text() if path.exists() else "# Benchmarks\n\n"
-    pattern = re.compile(rf"^{re.escape(SECTION)}\n.*?(?=^## |\Z)", flags=re.M | re.S)
-    old = pattern.search(text)
-    if old:
-        text = text[: old.start()] + section.rstrip("\n") + "\n\n" + text[old.end() :]
-    else:
-        text = text.rstrip("\n") + "\n\n" + section
-    path.write_text(text.rstrip("\n") + "\n")
-
-
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=STEPS)
@@ -297,7 +284,7 @@ def main(argv: list[str] | None = None) -> None:
     )
     print(section)
     if not args.no_readme:
-        write_section(section)
+        replace_section(README, SECTION, section)
         print(f"\nwritten to {README.relative_to(ROOT)}", file=sys.stderr)
 
 

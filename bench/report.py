@@ -42,6 +42,7 @@ import scipy  # noqa: E402
 import runtime  # noqa: E402
 from bench import peers  # noqa: E402
 from bench.machine import cpu as machine  # noqa: E402
+from bench.markdown import replace_section  # noqa: E402
 from bench.references import (  # noqa: E402
     BowlReference,
     CylinderReference,
@@ -50,7 +51,6 @@ from bench.references import (  # noqa: E402
     Reference,
     Trajectory,
 )
-from bench.steps import replace_section  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "docs" / "report"

@@ -39,7 +39,6 @@ import datetime
 import json
 import math
 import platform
-import re
 import signal
 import sys
 import time
@@ -54,6 +53,7 @@ import strategies as S  # noqa: E402
 from hypothesis import HealthCheck, Phase, given, settings  # noqa: E402
 
 from bench.machine import cpu  # noqa: E402
+from bench.markdown import replace_section  # noqa: E402
 
 README = ROOT / "bench" / "README.md"
 SECTION = "## Soak"
@@ -199,20 +199,6 @@ def section(soak: Soak, minutes: float, wall: float) -> str:
         "scene ran longer than the per-scene limit.",
     ]
     return "\n".join(lines)
-
-
-def replace_section(path: Path, heading: str, body: str) -> None:
-    """Replace the ``heading`` section of a Markdown file (up to the next "## "), or append it:
-    the other sections, owned by other benchmarks, stay as they are."""
-    text = path.read_text() if path.exists() else ""
-    body = body.rstrip("\n") + "\n\n"
-    pattern = re.compile(rf"^{re.escape(heading)}\n.*?(?=^## |\Z)", flags=re.M | re.S)
-    old = pattern.search(text)
-    if old:
-        text = text[: old.start()] + body + text[old.end() :]
-    else:
-        text = text.rstrip("\n") + "\n\n" + body
-    path.write_text(text.rstrip("\n") + "\n")
 
 
 def replay(path: Path) -> int:

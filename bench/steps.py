@@ -39,6 +39,7 @@ import numpy as np
 
 import runtime
 from bench.machine import cpu
+from bench.markdown import replace_section
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "bench" / "README.md"
@@ -54,22 +55,6 @@ DT = 1e-3  # s, the scenes' default step
 BUDGET = 30.0  # s of wall time per pile (checked between chunks)
 MAX_STEPS = {"resting": 40, "falling": 200}  # a falling pile lands within ~100 steps
 CHUNK_TIME = 0.5  # s of wall time per `simulate` call, about (a cut chunk loses contacts)
-
-
-def replace_section(path: Path, heading: str, body: str, before: str | None = None) -> None:
-    """Replace the `heading` section of a Markdown file (up to the next "## "), or add it before
-    the `before` section (or at the end): the other sections, owned by others, stay as they are."""
-    text = path.read_text() if path.exists() else ""
-    body = body.rstrip("\n") + "\n\n"
-    pattern = re.compile(rf"^{re.escape(heading)}\n.*?(?=^## |\Z)", flags=re.M | re.S)
-    old = pattern.search(text)
-    if old:
-        text = text[: old.start()] + body + text[old.end() :]
-    elif before and (nxt := re.search(rf"^{re.escape(before)}\n", text, flags=re.M)):
-        text = text[: nxt.start()] + body + text[nxt.start() :]
-    else:
-        text = text.rstrip("\n") + "\n\n" + body
-    path.write_text(text.rstrip("\n") + "\n")
 
 
 def pile_scene(n: int, drop: float = 0.0):

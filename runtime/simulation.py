@@ -418,7 +418,8 @@ class _Watch:
         )
 
     def after_step(self, k: int, t: float, state, new, method: str) -> None:
-        """Raise if step k produced a non-finite state or raised the energy too far."""
+        """Raise if step k produced a non-finite state, moved a centre of mass through a fixed
+        edge or raised the energy too far."""
         if not (np.all(np.isfinite(new[0])) and np.all(np.isfinite(new[1]))):
             raise self.failure(k, t, "produced a non-finite state", *state)
         if self.edges is not None:

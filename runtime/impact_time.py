@@ -193,7 +193,7 @@ class ImpactSearch:
             np.isin(frame.modes[watched], (int(Mode.SEPARATING), int(Mode.LIFTING))),
         )
         resting = {contact_key(c) for c in frame.resting}
-        best = None
+        best, unconfirmed = None, set()
         for bracket in found:
             contact = contacts[bracket.index]
             gap = self._gap_function(contact, traj)
@@ -218,7 +218,44 @@ class ImpactSearch:
                 continue
             if self._touches(contact, traj(t), resting):
                 best = t
+            else:
+                unconfirmed.add(
+                    (min(contact.body1, contact.body2), max(contact.body1, contact.body2))
+                )
+        if unconfirmed:
+            later = self._new_feature(unconfirmed, contacts, traj, h if best is None else best)
+            if later is not None:
+                best = later
         return best
+
+    def _new_feature(self, pairs: set, watched: list, traj, until: float) -> float | None:
+        """Earliest impact, before ``until``, of a feature that a pair reaches only during the
+        step. Where a watched contact's kernel crosses zero but the contact finder sees another
+        feature there (an edge's line crossing while the pair meets at the edge's corner), the
+        corner may still sink in later in the step: a feature found penetrating at ``until``,
+        not watched at the start and clear of the other body then, is located like any other."""
+        keys = {contact_key(c) for c in watched}
+        poses = self._split(traj(until))[0]
+        earliest = None
+        for i, j in sorted(pairs):
+            for contact in sweep.pair_contacts(self.shapes, self.fixed, i, j, poses, 0.0):
+                if contact_key(contact) in keys or contact.gap >= -self.touch:
+                    continue
+                gap = self._gap_function(contact, traj)
+                start, end = gap(0.0)[0], gap(until)[0]
+                if not start > 0 >= end:
+                    continue
+                t, d = locate(
+                    gap,
+                    0.0,
+                    until,
+                    until * start / (start - end),
+                    gap_tol=1e-3 * self.touch,
+                    time_tol=4.0 * np.finfo(float).eps * until,
+                )
+                if d <= self.touch and (earliest is None or t < earliest):
+                    earliest = t
+        return earliest
 
     def _gap_function(self, contact, traj) -> Callable[[float], tuple[float, float]]:
         """t -> (d, d') of one contact from the kernels, at the trajectory's state at t. An

@@ -298,6 +298,44 @@ def test_ball_bounces_to_h_e2k_then_rests_in_finite_time():
 # -- tunnelling ---------------------------------------------------------------------------------
 
 
+def test_a_corner_sliding_onto_a_disc_is_an_impact():
+    """From a soak failure: a heptagon moving at 2.7 m/s over a disc watches its edge against the
+    disc; in step 26 the edge's line crosses the disc where the contact finder already sees the
+    edge's corner, still clear, and the corner then sinks in (1.6e-4 m at the next step, when
+    the impact search only confirmed the edge). The corner's impact must be located instead."""
+    polygon = [
+        [0.05967232253329676, 0.0],
+        [0.04161815036294097, 0.04276348485431739],
+        [-0.0060912486496402995, 0.05936061629065227],
+        [-0.05284614219198848, 0.027714099876090716],
+        [-0.05128275999025439, -0.03051007381668816],
+        [0.0067714453006183966, -0.05928687548740049],
+        [0.051755078161147876, -0.02970181747050625],
+    ]
+    data = {
+        "scene": {"contact_tolerance": 5.152411507049318e-08,
+                  "overlap_tolerance": 5.152411507049319e-11},
+        "simulation": {"duration": 0.01618777589632709, "dt": 0.00034442076375164023},
+        "body": [
+            {"name": "floor", "fixed": True,
+             "shape": {"type": "wall", "start": [-13.0, 0.0], "end": [13.0, 0.0]}},
+            {"name": "disc", "shape": {"type": "disc", "radius": 0.10106429904618526},
+             "density": 361.62968974795456, "position": [0.03789575907349052, 0.10339448872439364],
+             "angle": 0.8940273505153415, "angular_velocity": -2.0412597932401244,
+             "restitution": 1.0},
+            {"name": "polygon", "shape": {"type": "polygon", "points": polygon},
+             "density": 3330.1776099448934, "position": [0.03627526246533175, 0.26593147854887816],
+             "angle": -0.5350777202266257, "velocity": [2.632135835599392, -0.8171114746980639],
+             "angular_velocity": -1.7064250769128317, "restitution": 1.0},
+        ],
+    }  # fmt: skip
+    scene = runtime.scene_from_dict(data, source="corner")
+    run = runtime.simulate(scene)
+    gaps = [c.gap for poses in run.poses for c in scene.find_contacts(poses, tolerance=0.0)]
+    assert min(gaps, default=0.0) > -1e-9  # was -1.56e-4 m
+    assert len(run.impact_times) == 4  # the corner's impact is the new one
+
+
 @pytest.mark.parametrize("dt", [1.0 / 60.0, 1e-3])
 def test_disc_at_100_m_per_s_does_not_pass_through_a_1_cm_wall(dt):
     s = runtime.load_scene(SCENES / "wall_shot.toml")

@@ -219,21 +219,32 @@ class ImpactSearch:
             if self._touches(contact, traj(t), resting):
                 best = t
             else:
-                unconfirmed.add(
-                    (min(contact.body1, contact.body2), max(contact.body1, contact.body2))
-                )
+                unconfirmed.add(_pair(contact))
+        closing = end.gap < frame.rows.gap[watched]  # may meet at another feature on the way
+        unconfirmed |= {
+            _pair(c) for c, shut in zip(contacts, closing, strict=True) if shut and self._turns(c)
+        }
         if unconfirmed:
             later = self._new_feature(unconfirmed, contacts, traj, h if best is None else best)
             if later is not None:
                 best = later
         return best
 
+    def _turns(self, contact) -> bool:
+        """Whether the pair of ``contact`` can meet at more than one pair of features (not two
+        discs: one circle each)."""
+        return any(
+            len(self.shapes[b].edges) > 1 or bool(self.shapes[b].vertices)
+            for b in (contact.body1, contact.body2)
+        )
+
     def _new_feature(self, pairs: set, watched: list, traj, until: float) -> float | None:
         """Earliest impact, before ``until``, of a feature that a pair reaches only during the
-        step. Where a watched contact's kernel crosses zero but the contact finder sees another
-        feature there (an edge's line crossing while the pair meets at the edge's corner), the
-        corner may still sink in later in the step: a feature found penetrating at ``until``,
-        not watched at the start and clear of the other body then, is located like any other."""
+        step: a pair closing in at one feature can meet at another (an edge's contact sliding
+        onto its corner, a corner turning into an arc), and a watched kernel that crosses zero
+        where the contact finder sees another feature leaves that feature free to sink in later
+        in the step. A feature found penetrating at ``until``, not watched at the start and
+        clear of the other body then, is located like any other."""
         keys = {contact_key(c) for c in watched}
         poses = self._split(traj(until))[0]
         earliest = None
@@ -285,6 +296,10 @@ class ImpactSearch:
         poses = self._split(state)[0]
         found = sweep.pair_contacts(self.shapes, self.fixed, i, j, poses, self.touch)
         return any(contact_key(c) not in resting for c in found)
+
+
+def _pair(contact) -> tuple[int, int]:
+    return min(contact.body1, contact.body2), max(contact.body1, contact.body2)
 
 
 def _grazes(rate: float, curvature: float, dip: float) -> bool:

@@ -244,7 +244,7 @@ class ImpactSearch:
         onto its corner, a corner turning into an arc), and a watched kernel that crosses zero
         where the contact finder sees another feature leaves that feature free to sink in later
         in the step. A feature found penetrating at ``until``, not watched at the start and
-        clear of the other body then, is located like any other."""
+        clear of the other body (by more than the touch gap) then, is located like any other."""
         keys = {contact_key(c) for c in watched}
         poses = self._split(traj(until))[0]
         earliest = None
@@ -254,7 +254,7 @@ class ImpactSearch:
                     continue
                 gap = self._gap_function(contact, traj)
                 start, end = gap(0.0)[0], gap(until)[0]
-                if not start > 0 >= end:
+                if not (start > self.touch and end <= 0):  # clear at the start: not found again
                     continue
                 t, d = locate(
                     gap,

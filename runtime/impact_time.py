@@ -18,7 +18,9 @@ and, where d changes sign, finds the instant with d = 0 and restarts from there.
   contacts, then, in order of their guesses, the earliest located impact that the contact
   finder confirms (a kernel's gap is that of a whole line or circle: beyond an edge's or arc's
   end it can cross zero with nothing there) and that is not a graze (a tangent touch, d = 0
-  with d' = 0 up to rounding, which must not deflect a body skimming past).
+  with d' = 0 up to rounding, which must not deflect a body skimming past); and, for the pairs
+  that closed in, a feature the contact finder sees penetrating at the trial's end that was not
+  watched at its start (the pair met at another feature within the step).
 """
 
 from __future__ import annotations

@@ -47,18 +47,16 @@ def contact_names(scene, contacts) -> str:
     return ", ".join(names) or "none"
 
 
-def energy_scale(scene, radii: np.ndarray) -> float:
-    """Sum over the moving bodies of (kinetic energy + m |g| (H + 2 r)) at t = 0, where H is the
-    height the scene spans (every body's centre +- its bounding radius r)."""
-    poses, velocities = scene.poses(), scene.velocities()
-    y, g = poses[:, 1], float(np.hypot(*scene.gravity))
+def energy_scale(scene, radii: np.ndarray, kinetic: float) -> float:
+    """The kinetic energy at t = 0 (``kinetic``) plus, over the moving bodies, m |g| (H + 2 r),
+    where H is the height the scene spans (every body's centre +- its bounding radius r)."""
+    y, g = scene.poses()[:, 1], float(np.hypot(*scene.gravity))
     height = float(np.max(y + radii) - np.min(y - radii))
-    total = 0.0
-    for body, r, v in zip(scene.bodies, radii, velocities, strict=True):
-        if not body.fixed:
-            kinetic = 0.5 * body.mass * (v[0] ** 2 + v[1] ** 2) + 0.5 * body.inertia * v[2] ** 2
-            total += kinetic + body.mass * g * (height + 2.0 * r)
-    return total
+    return kinetic + sum(
+        body.mass * g * (height + 2.0 * r)
+        for body, r in zip(scene.bodies, radii, strict=True)
+        if not body.fixed
+    )
 
 
 def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, object] | None:
@@ -69,7 +67,7 @@ def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, object] | N
     depth = -np.asarray(frame.rows.gap, dtype=float)
     if not np.any(depth > 0.0):
         return None
-    size = np.array([min(radii[c.body1], radii[c.body2]) for c in frame.contacts])
+    size = np.minimum(radii[frame.rows.body1], radii[frame.rows.body2])
     k = int(np.argmax(depth / size))
     return float(depth[k]), float(depth[k] / size[k]), frame.contacts[k]
 

@@ -173,6 +173,8 @@ class ImpactSearch:
         self.touch, self.tolerance = touch, tolerance
         self.n = len(shapes)
         self.radii = np.array([s.bounding_radius for s in shapes], dtype=float)
+        # bodies with more than one feature (not a disc): their pairs can switch features
+        self.features = [len(s.edges) > 1 or bool(s.vertices) for s in shapes]
 
     def _split(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         n = self.n
@@ -224,21 +226,15 @@ class ImpactSearch:
                 unconfirmed.add(_pair(contact))
         closing = end.gap < frame.rows.gap[watched]  # may meet at another feature on the way
         unconfirmed |= {
-            _pair(c) for c, shut in zip(contacts, closing, strict=True) if shut and self._turns(c)
+            _pair(c)
+            for c, shut in zip(contacts, closing, strict=True)
+            if shut and (self.features[c.body1] or self.features[c.body2])
         }
         if unconfirmed:
             later = self._new_feature(unconfirmed, contacts, traj, h if best is None else best)
             if later is not None:
                 best = later
         return best
-
-    def _turns(self, contact) -> bool:
-        """Whether the pair of ``contact`` can meet at more than one pair of features (not two
-        discs: one circle each)."""
-        return any(
-            len(self.shapes[b].edges) > 1 or bool(self.shapes[b].vertices)
-            for b in (contact.body1, contact.body2)
-        )
 
     def _new_feature(self, pairs: set, watched: list, traj, until: float) -> float | None:
         """Earliest impact, before ``until``, of a feature that a pair reaches only during the

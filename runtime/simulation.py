@@ -90,16 +90,25 @@ class Run:
         return max(0.0, -min(self.min_gap, default=0.0))
 
 
+def kinetic_energy(scene, velocities: np.ndarray) -> float:
+    """Kinetic energy of the moving bodies."""
+    terms = (
+        0.5 * body.mass * (v[0] ** 2 + v[1] ** 2) + 0.5 * body.inertia * v[2] ** 2
+        for body, v in zip(scene.bodies, velocities, strict=True)
+        if not body.fixed
+    )
+    return float(sum(terms))
+
+
 def mechanical_energy(scene, poses: np.ndarray, velocities: np.ndarray) -> float:
     """Kinetic + gravitational potential energy of the moving bodies."""
-    total = 0.0
     g = np.asarray(scene.gravity)
-    for body, q, v in zip(scene.bodies, poses, velocities, strict=True):
-        if body.fixed:
-            continue
-        total += 0.5 * body.mass * (v[0] ** 2 + v[1] ** 2) + 0.5 * body.inertia * v[2] ** 2
-        total -= body.mass * float(g @ q[:2])
-    return total
+    potential = sum(
+        -body.mass * float(g @ q[:2])
+        for body, q in zip(scene.bodies, poses, strict=True)
+        if not body.fixed
+    )
+    return kinetic_energy(scene, velocities) + potential
 
 
 def linear_momentum(scene, velocities: np.ndarray) -> np.ndarray:
@@ -338,7 +347,8 @@ def simulate(
     run = Run(scene.name, method, dt)
     poses, vel = scene.poses(), scene.velocities()
     with np.errstate(all="ignore"):
-        watch = _Watch(scene, guards, sim.radii, mechanical_energy(scene, poses, vel), run)
+        energy = mechanical_energy(scene, poses, vel)  # of the current state, carried along
+        watch = _Watch(scene, guards, sim.radii, energy, kinetic_energy(scene, vel), run)
     steps = int(round(duration / dt))
     start = time.perf_counter()
     t = 0.0
@@ -361,14 +371,15 @@ def simulate(
                 run.t.append(t)
                 run.poses.append(poses.copy())
                 run.velocities.append(vel.copy())
-                run.energy.append(mechanical_energy(scene, poses, vel))
+                run.energy.append(energy)
                 run.momentum.append(linear_momentum(scene, vel))
                 run.contacts.append(resting)
                 run.contact_forces.append(solution.forces)
                 run.min_gap.append(sim.last_frame.min_gap if sim.last_frame else np.inf)
             if new is None:
                 break
-            watch.after_step(k, t, (poses, vel), new, method)
+            energy = mechanical_energy(scene, *new)
+            watch.after_step(k, t, (poses, vel), new, energy, method)
         poses, vel = new
         t = (k + 1) * dt
         if progress is not None:
@@ -382,10 +393,13 @@ class _Watch:
     """The guards of one run (runtime.guards) and the SimulationError messages, built in one
     place so every failure names the step, the time and the contacts the same way."""
 
-    def __init__(self, scene, guards: Guards, radii: np.ndarray, energy: float, run: Run):
+    def __init__(
+        self, scene, guards: Guards, radii: np.ndarray, energy: float, kinetic: float, run: Run
+    ):
         self.scene, self.guards, self.radii, self.run = scene, guards, radii, run
         self.energy0 = energy
-        self.scale = energy_scale(scene, radii) if guards.energy_growth is not None else 0.0
+        on = guards.energy_growth is not None
+        self.scale = energy_scale(scene, radii, kinetic) if on else 0.0
         self.previous: tuple | None = None  # (step, t, poses, velocities) before the last step
         self.moving = np.flatnonzero(~np.asarray(scene.fixed, dtype=bool))
         self.edges = FixedEdges(scene) if guards.penetration is not None else None
@@ -417,7 +431,7 @@ class _Watch:
             *self.previous[2:],
         )
 
-    def after_step(self, k: int, t: float, state, new, method: str) -> None:
+    def after_step(self, k: int, t: float, state, new, energy: float, method: str) -> None:
         """Raise if step k produced a non-finite state, moved a centre of mass through a fixed
         edge or raised the energy too far."""
         if not (np.all(np.isfinite(new[0])) and np.all(np.isfinite(new[1]))):
@@ -438,7 +452,6 @@ class _Watch:
                     *state,
                 )
         if self.scale > 0:
-            energy = mechanical_energy(self.scene, *new)
             if energy - self.energy0 > self.guards.energy_growth * self.scale:
                 raise self.failure(
                     k,

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 import runtime
-from runtime.simulation import Simulator
+from runtime.step.simulation import Simulator
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ("disc_pile", "rounded_stack")

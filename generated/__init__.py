@@ -1,7 +1,7 @@
 """Generated contact kernels, one module per contact case. DO NOT EDIT.
 
 Written by `regenerate-equations`; import a case's module only
-when a scene needs it (runtime.kernels does this), e.g. `import generated.vertex_circle`.
+when a scene needs it (runtime.solve.kernels does this), e.g. `import generated.vertex_circle`.
 """
 
 CASES = (

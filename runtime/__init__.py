@@ -4,7 +4,10 @@
     run = runtime.simulate(scene, duration=10.0, dt=1e-3, method="rk4")
     run.t, run.poses, run.velocities, run.energy, run.contact_forces
 
-Submodules are imported on first use, so `from runtime import lcp` loads only the solver.
+Submodules are imported on first use, so `runtime.lcp` loads only the solver.
+
+Layout: model/ (shapes, bodies, scenes), io/ (scene files), collide/ (broad and narrow phase),
+solve/ (kernel rows, contact forces, impulses), step/ (the time step), app/ (CLI, plots).
 """
 
 from __future__ import annotations
@@ -12,22 +15,27 @@ from __future__ import annotations
 import importlib
 
 _EXPORTS = {
-    "Body": "runtime.scene",
-    "Scene": "runtime.scene",
-    "SceneError": "runtime.scene",
-    "load_scene": "runtime.scene",
-    "scene_from_dict": "runtime.scene",
-    "Run": "runtime.simulation",
-    "SimulationError": "runtime.simulation",
-    "simulate": "runtime.simulation",
-    "Stabilisation": "runtime.dynamics",
-    "Guards": "runtime.guards",
+    "Body": "runtime.model.scene",
+    "Scene": "runtime.model.scene",
+    "SceneError": "runtime.io.scene_file",
+    "load_scene": "runtime.io.scene_file",
+    "scene_from_dict": "runtime.io.scene_file",
+    "Run": "runtime.step.simulation",
+    "SimulationError": "runtime.step.simulation",
+    "simulate": "runtime.step.simulation",
+    "Stabilisation": "runtime.solve.dynamics",
+    "Guards": "runtime.step.guards",
 }
 
-__all__ = sorted(_EXPORTS)
+# submodules reachable as attributes, e.g. `runtime.lcp.solve(A, b)` after `import runtime`
+_MODULES = {"lcp": "runtime.solve.lcp", "shapes": "runtime.model.shapes"}
+
+__all__ = sorted(_EXPORTS) + sorted(_MODULES)
 
 
 def __getattr__(name: str):
     if name in _EXPORTS:
         return getattr(importlib.import_module(_EXPORTS[name]), name)
+    if name in _MODULES:
+        return importlib.import_module(_MODULES[name])
     raise AttributeError(f"module 'runtime' has no attribute {name!r}")

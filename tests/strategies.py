@@ -40,7 +40,7 @@ from typing import Any
 import numpy as np
 from hypothesis import strategies as st
 
-from runtime import shapes as _shapes
+from runtime.model import shapes as _shapes
 
 G = 9.81
 SHAPE_KINDS = ("disc", "polygon", "rounded_rect", "half_disc")
@@ -498,7 +498,7 @@ def deepest_penetration(scene: Any, poses_list: Any, bound: float) -> tuple[floa
     """The deepest overlap over the recorded poses: the engine's own contacts (exact gaps,
     tolerance 0) and, since those leave out implausibly deep ones, sampled boundary points
     of one body inside another (runtime/scene_overlap.py). ``(depth, step, description)``."""
-    from runtime.scene_overlap import deepest_overlap
+    from runtime.io.scene_overlap import deepest_overlap
 
     worst = (0.0, 0, "")
     for k, poses in enumerate(poses_list):

@@ -35,10 +35,10 @@ import numpy as np
 import pytest
 
 import runtime
-from runtime import shapes
-from runtime.dynamics import ContactDynamics
-from runtime.lcp import ContactSolverError
-from runtime.scene import SceneError, load_scene, scene_from_dict
+from runtime.io.scene_file import SceneError, load_scene, scene_from_dict
+from runtime.model import shapes
+from runtime.solve.dynamics import ContactDynamics
+from runtime.solve.lcp import ContactSolverError
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "scenes"
@@ -419,7 +419,7 @@ def test_docs_table_is_current(tmp_path):
 
 
 def test_simulate_refuses_a_directory_as_scene(tmp_path, capsys):
-    from runtime import cli
+    from runtime.app import cli
 
     assert cli.main([str(tmp_path), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
@@ -428,7 +428,7 @@ def test_simulate_refuses_a_directory_as_scene(tmp_path, capsys):
 
 
 def test_simulate_reports_a_non_utf8_scene_in_one_line(tmp_path, capsys):
-    from runtime import cli
+    from runtime.app import cli
 
     path = tmp_path / "latin1.toml"
     path.write_bytes(scene_text().encode() + b"# caf\xe9\n")
@@ -590,7 +590,7 @@ def test_nan_with_contacts_is_a_simulation_error_naming_them(monkeypatch):
 
 
 def test_overflowing_contact_terms_are_a_simulation_error():
-    from runtime.scene import Body, Scene
+    from runtime.model.scene import Body, Scene
 
     floor = Body.from_shape("floor", shapes.wall((-1.0, 0.0), (1.0, 0.0)), fixed=True)
     disc = Body.from_shape(

@@ -20,8 +20,8 @@ import pytest
 from PIL import Image
 
 import runtime
-from runtime import cli, plotting
-from runtime.shapes import Arc, Segment, bowl
+from runtime.app import cli, plotting
+from runtime.model.shapes import Arc, Segment, bowl
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
 SCENE_FILES = sorted(SCENES.glob("*.toml"))
@@ -325,7 +325,7 @@ def test_simulation_error_writes_partial_run_and_exits_1(tmp_path, capsys, monke
         run = real(scene, 0.01, dt, method, **kwargs)
         raise runtime.SimulationError("step 11 at t = 0.011 s failed (test)", run, (None, None))
 
-    monkeypatch.setattr("runtime.simulation.simulate", failing)
+    monkeypatch.setattr("runtime.step.simulation.simulate", failing)
     out = tmp_path / "out"
     status = cli.main([str(scene_path), "--duration", "0.05", "--out", str(out), "--fps", "200"])
     captured = capsys.readouterr()

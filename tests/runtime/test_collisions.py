@@ -16,10 +16,12 @@ import numpy as np
 import pytest
 
 import runtime
-from runtime import collisions, impact_time, lcp, sweep
-from runtime.collisions import Mode
-from runtime.simulation import Simulator
-from runtime.warm_start import WarmStartSolver
+from runtime.collide import sweep
+from runtime.solve import lcp
+from runtime.solve.warm_start import WarmStartSolver
+from runtime.step import collisions, impact_time
+from runtime.step.collisions import Mode
+from runtime.step.simulation import Simulator
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
 G = 9.81
@@ -374,7 +376,7 @@ def test_disc_at_100_m_per_s_does_not_pass_through_a_1_cm_wall(dt):
 
 
 def test_a_body_that_outruns_its_margin_is_searched_again(monkeypatch):
-    """The safety net of runtime.sweep: with margins forced to 0 (as if a contact force had
+    """The safety net of runtime.collide.sweep: with margins forced to 0 (as if a contact force had
     thrown the disc), the trial step shows it moved farther, the search is widened and the
     impact still found."""
     monkeypatch.setattr(sweep, "margins", lambda v, h, radii, moving, g: np.zeros(len(radii)))

@@ -15,9 +15,10 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
-from runtime import contacts, narrowphase, shapes
-from runtime.contacts import Contact, candidate_pairs, find_contacts, possible_cases
-from runtime.shapes import Arc, Segment
+from runtime.collide import contacts, narrowphase
+from runtime.collide.contacts import Contact, candidate_pairs, find_contacts, possible_cases
+from runtime.model import shapes
+from runtime.model.shapes import Arc, Segment
 
 pytestmark = pytest.mark.filterwarnings("error")
 FLOOR = shapes.wall((-5.0, 0.0), (5.0, 0.0))

@@ -35,7 +35,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import runtime
-from runtime.scene import SceneError, load_scene, scene_from_dict
+from runtime.io.scene_file import SceneError, load_scene, scene_from_dict
 
 
 def fuzz(examples: int) -> settings:

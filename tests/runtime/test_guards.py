@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import runtime
-from runtime import sweep
-from runtime.guards import FixedEdges
+from runtime.collide import sweep
+from runtime.step.guards import FixedEdges
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
 

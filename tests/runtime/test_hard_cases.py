@@ -21,14 +21,14 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import runtime
-from runtime.dynamics import ContactDynamics
+from runtime.solve.dynamics import ContactDynamics
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "scenes"
 G = 9.81
 FLOOR = {"type": "wall", "start": [-5.0, 0.0], "end": [5.0, 0.0]}
 TOUCH = 1e-9  # the engine locates an impact to well inside this gap (Simulator.touch)
-LCP_TOL = 1e-9  # runtime.lcp.DEFAULT_TOL: |d''| <= LCP_TOL * max|b| counts as zero
+LCP_TOL = 1e-9  # runtime.solve.lcp.DEFAULT_TOL: |d''| <= LCP_TOL * max|b| counts as zero
 
 
 def ulp(x: float) -> float:

@@ -15,8 +15,8 @@ import pytest
 
 import runtime
 from bench.steps import pile_scene
-from runtime.dynamics import ContactDynamics
-from runtime.kernels import evaluate
+from runtime.solve.dynamics import ContactDynamics
+from runtime.solve.kernels import evaluate
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
 

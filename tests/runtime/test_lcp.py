@@ -20,7 +20,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from runtime import lcp
+from runtime.solve import lcp
 
 
 def _find_cases() -> Path | None:

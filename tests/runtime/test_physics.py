@@ -10,7 +10,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import runtime
-from runtime.dynamics import ContactDynamics
+from runtime.solve.dynamics import ContactDynamics
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "scenes"

@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from runtime.scene import Body, Scene, SceneError, load_scene, scene_from_dict
+from runtime.io.scene_file import SceneError, load_scene, scene_from_dict
+from runtime.model.scene import Body, Scene
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
 SCENE_FILES = sorted(SCENES.glob("*.toml"))
@@ -115,7 +116,7 @@ def test_explicit_inertia_and_fixed_body_arrays():
 
 
 def test_body_dataclass_computes_inertia():
-    from runtime import shapes
+    from runtime.model import shapes
 
     body = Body("d", shapes.disc(0.2), mass=3.0)
     assert body.inertia == pytest.approx(3.0 * 0.2**2 / 2, rel=1e-12)

@@ -11,8 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from runtime import shapes
-from runtime.shapes import Arc, Ellipse, Segment, Shape, shape_from_edges
+from runtime.model import shapes
+from runtime.model.shapes import Arc, Ellipse, Segment, Shape, shape_from_edges
 
 pytestmark = pytest.mark.filterwarnings("error")
 

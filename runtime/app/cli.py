@@ -27,7 +27,7 @@ from typing import Any, NoReturn, TextIO
 
 import numpy as np
 
-from runtime.integrators import METHODS
+from runtime.step.integrators import METHODS
 
 __all__ = ["OUTPUT_FILES", "ProgressBar", "main", "write_outputs"]
 
@@ -258,7 +258,7 @@ def write_outputs(
 ) -> dict[str, Any]:
     """Write trajectory.npz, summary.json, energy_forces.png and (``gif``) animation.gif into
     ``out``; files of an earlier run there are replaced or, if not produced now, removed."""
-    from runtime import plotting
+    from runtime.app import plotting
 
     out.mkdir(parents=True, exist_ok=True)
     for name in OUTPUT_FILES:

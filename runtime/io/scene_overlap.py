@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from runtime.contacts import candidate_pairs
-from runtime.shapes import TAU, Arc, Ellipse, Segment
+from runtime.collide.contacts import candidate_pairs
+from runtime.model.shapes import TAU, Arc, Ellipse, Segment
 
 __all__ = ["deepest_overlap"]
 

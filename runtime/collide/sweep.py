@@ -7,7 +7,7 @@ points can move in the step (speed of the centre plus |w| times the bounding rad
 step, doubled, plus |g| h^2 for the change of velocity), and the contact tolerance of a pair is
 inflated by the margins of its two bodies. Every feature pair that can meet during the step is
 then among the contacts found at its start, so its kernel gap can be watched over the step and its
-time of impact located (runtime.impact_time). If a body still moves farther than its margin (a
+time of impact located (runtime.step.impact_time). If a body still moves farther than its margin (a
 large contact force), :func:`outran` says so and the search is repeated with wider margins.
 """
 
@@ -17,7 +17,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from runtime import contacts as _contacts
+from runtime.collide import contacts as _contacts
 
 
 def margins(
@@ -41,7 +41,7 @@ def outran(start: np.ndarray, end: np.ndarray, radii: np.ndarray, margin: np.nda
 
 
 def swept_contacts(scene, poses: np.ndarray, margin: np.ndarray) -> list:
-    """Contacts (runtime.contacts.Contact) at ``poses`` whose gap is at most the scene's contact
+    """Contacts (runtime.collide.contacts.Contact) at ``poses`` whose gap is at most the scene's contact
     tolerance plus the margins of their two bodies."""
     base = scene.contact_tolerance
     widest = float(np.max(margin, initial=0.0))

@@ -3,7 +3,7 @@
 Why: a time step that is too large does not fail loudly by itself. Bodies sink into each other
 (an impact missed between two steps) and may fall through; an explicit method pumps energy into
 a scene with no energy source. Both produce finite numbers that look like a simulation. These
-guards turn them into a :class:`runtime.simulation.SimulationError` naming the step, the time,
+guards turn them into a :class:`runtime.step.simulation.SimulationError` naming the step, the time,
 the bodies and the size of the problem. Both limits are relative, so they hold for scenes of
 any size:
 
@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from runtime.shapes import TAU, Arc, Segment
+from runtime.model.shapes import TAU, Arc, Segment
 
 
 @dataclass(frozen=True)

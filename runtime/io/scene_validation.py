@@ -18,8 +18,8 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from runtime import shapes as _shapes
-from runtime.integrators import METHODS
+from runtime.model import shapes as _shapes
+from runtime.step.integrators import METHODS
 
 __all__ = [
     "BODY_KEYS",
@@ -71,7 +71,7 @@ BODY_KEYS = (
 
 # Shape type -> its parameters and their kinds: "positive", "nonnegative", "finite" numbers,
 # "vector" [x, y], "points" [[x, y], ...] (all required) or "flag" (optional bool, default
-# false).  They are passed by keyword to the runtime.shapes constructor of the same name.
+# false).  They are passed by keyword to the runtime.model.shapes constructor of the same name.
 SHAPE_PARAMETERS: dict[str, dict[str, str]] = {
     "disc": {"radius": "positive"},
     "polygon": {"points": "points"},

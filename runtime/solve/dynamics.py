@@ -1,9 +1,9 @@
 """Accelerations of all bodies under gravity and contact forces (Baraff's method).
 
 For the resting contacts, d'' = J acc + bias with acc = M^-1 (F_ext + J^T f), so
-d'' = A f + b with A = J M^-1 J^T and b = J M^-1 F_ext + bias; the LCP (runtime.lcp) gives the
+d'' = A f + b with A = J M^-1 J^T and b = J M^-1 F_ext + bias; the LCP (runtime.solve.lcp) gives the
 forces f >= 0 with d'' >= 0 and f.d'' = 0. Every term of J and bias comes from the generated
-kernels (runtime.kernels); nothing of the derivation is typed here.
+kernels (runtime.solve.kernels); nothing of the derivation is typed here.
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from runtime import lcp
-from runtime.kernels import ContactRows, evaluate, load_cases
+from runtime.solve import lcp
+from runtime.solve.kernels import ContactRows, evaluate, load_cases
 
 
 @dataclass(frozen=True)

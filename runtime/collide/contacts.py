@@ -23,8 +23,8 @@ from itertools import product
 
 import numpy as np
 
-from runtime import narrowphase
-from runtime.shapes import Shape
+from runtime.collide import narrowphase
+from runtime.model.shapes import Shape
 
 CASES = ("vertex_edge", "vertex_circle", "circle_edge", "circle_circle")
 
@@ -79,7 +79,9 @@ def _check(shapes, poses, fixed, tolerance=0.0) -> tuple[np.ndarray, np.ndarray,
     n = len(shapes)
     for k, s in enumerate(shapes):
         if not isinstance(s, Shape):
-            raise ValueError(f"shapes[{k}] must be a runtime.shapes.Shape, got {type(s).__name__}")
+            raise ValueError(
+                f"shapes[{k}] must be a runtime.model.shapes.Shape, got {type(s).__name__}"
+            )
     flags = np.asarray(fixed, dtype=bool).reshape(-1)
     if flags.shape != (n,):
         raise ValueError(f"fixed must have one flag per shape ({n}), got {len(flags)}")

@@ -1,6 +1,6 @@
 """Resting contacts that move apart: pressed back to rest, or lifting off.
 
-Why this module exists: the contact forces (runtime.dynamics) are an LCP on accelerations,
+Why this module exists: the contact forces (runtime.solve.dynamics) are an LCP on accelerations,
 which assumes every resting contact has d' = 0. After impacts in a pile, neighbouring resting
 contacts are left moving apart at tiny speeds (d' > 0, below the separation speed). Kept in the
 LCP, such a contact is pushed while it moves apart: the force does work f d' > 0 and feeds
@@ -10,7 +10,7 @@ physical outcome of such a hop is a plastic landing, so it is applied at once:
 
 * a resting contact moving apart that the forces press (force > 0), or that nothing lifts
   (force 0 and d'' = 0, a redundant contact), is *pressed*: impulses make its d' exactly 0
-  (bilateral rows of the runtime.lcp solver; >= 0 impulses and d' >= 0 on the other resting
+  (bilateral rows of the runtime.solve.lcp solver; >= 0 impulses and d' >= 0 on the other resting
   contacts). The kinetic energy can only go down (by p.A p / 2);
 * one moving apart with d'' > 0 and no force really lifts off: it is marked ``LIFTING``, left
   out of the force computation of the step and watched for its return (an impact located in
@@ -28,8 +28,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from runtime import lcp
-from runtime.collisions import Frame, Mode, subset
+from runtime.solve import lcp
+from runtime.step.collisions import Frame, Mode, subset
 
 _RESTING, _LIFTING = int(Mode.RESTING), int(Mode.LIFTING)
 

@@ -34,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from runtime.shapes import TAU, Arc, Ellipse, Segment, Shape
+from runtime.model.shapes import TAU, Arc, Ellipse, Segment, Shape
 
 SPAN_EPS = 1e-9  # rad, and relative length: closed spans, so flat-on-flat contacts survive
 CONE_SLACK = 0.1  # rad: how far a corner's normal cone may miss a straight edge's normal

@@ -31,9 +31,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from runtime import sweep
-from runtime.collisions import Mode, contact_key
-from runtime.shapes import Ellipse
+from runtime.collide import sweep
+from runtime.model.shapes import Ellipse
+from runtime.step.collisions import Mode, contact_key
 
 CROSS = "cross"  # open at the start, penetrating at the end
 DIP = "dip"  # open at both ends, below zero in between
@@ -182,7 +182,7 @@ class ImpactSearch:
 
     def first(self, frame, traj: Callable[[float], np.ndarray], h: float) -> float | None:
         """Time (from the trial's start) of the first impact among the watched contacts of
-        ``frame`` (runtime.collisions.Frame) along ``traj`` (t -> state), or None."""
+        ``frame`` (runtime.step.collisions.Frame) along ``traj`` (t -> state), or None."""
         watched = frame.monitored
         if frame.rows is None or watched.size == 0:
             return None

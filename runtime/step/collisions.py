@@ -1,8 +1,8 @@
 """Impacts: which touching contacts collide, rest or separate, and the velocity jumps at impacts.
 
 Why this module exists: at the instant two bodies meet (the time of impact is located by
-runtime.impact_time, so the gap is 0), their velocities must jump so that no touching contact
-keeps approaching. The jump uses the same A = J M^-1 J^T as the contact forces (runtime.dynamics):
+runtime.step.impact_time, so the gap is 0), their velocities must jump so that no touching contact
+keeps approaching. The jump uses the same A = J M^-1 J^T as the contact forces (runtime.solve.dynamics):
 the gap velocity is linear in the velocities, d' = J v, so impulses p along the normals change it
 by exactly A p, and the velocities by M^-1 J^T p.
 
@@ -16,10 +16,10 @@ Contact modes (:func:`classify`), decided per contact from its gap d and gap vel
   This is what ends a bouncing ball in finite time: once the impact speed is below the resting
   speed the bounce is plastic and the contact rests -- no Zeno loop of ever smaller bounces. A
   resting contact that moves apart while the forces press it is made to rest exactly
-  (runtime.resting), so nothing hovers;
+  (runtime.step.resting), so nothing hovers;
 * ``SEPARATING``: touching and d' > separation speed: it is left free, and its return, if any,
   is an impact located in time;
-* ``LIFTING``: resting, but moving apart with nothing pressing it (runtime.resting decides):
+* ``LIFTING``: resting, but moving apart with nothing pressing it (runtime.step.resting decides):
   free in the step's force computation, watched like a separating contact, recorded as
   resting.
 
@@ -54,7 +54,7 @@ simultaneous pass.
    solved over the approaching contacts, grown by those its impulses make approach until none
    outside approaches (up to the creep speed): a solution of the LCP over all of them, found
    on a smaller matrix. Each of these LCPs is first tried with every contact taking an impulse
-   (a linear solve, runtime.warm_start), and solved by pivoting (runtime.lcp) if that fails.
+   (a linear solve, runtime.solve.warm_start), and solved by pivoting (runtime.solve.lcp) if that fails.
 
 So impacts that happen at the same instant (a block landing flat on two corners, a ball meeting
 two balls at once) are simultaneous, and an impulse travels through contacts that were merely
@@ -71,9 +71,9 @@ from enum import IntEnum
 
 import numpy as np
 
-from runtime import lcp
-from runtime.kernels import ContactRows
-from runtime.warm_start import solve_with_guess
+from runtime.solve import lcp
+from runtime.solve.kernels import ContactRows
+from runtime.solve.warm_start import solve_with_guess
 
 
 class Mode(IntEnum):
@@ -83,7 +83,7 @@ class Mode(IntEnum):
     COLLIDING = 1
     RESTING = 2
     SEPARATING = 3
-    LIFTING = 4  # resting, but moving apart with nothing pressing it (runtime.resting)
+    LIFTING = 4  # resting, but moving apart with nothing pressing it (runtime.step.resting)
 
 
 _OPEN, _RESTING, _SEPARATING = int(Mode.OPEN), int(Mode.RESTING), int(Mode.SEPARATING)
@@ -212,7 +212,7 @@ def resolve(
 
 def _solve(a_matrix: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The impulse LCP, first guessing that every contact in it takes an impulse (true for
-    most impacts: they are all approaching), else by pivoting (runtime.lcp)."""
+    most impacts: they are all approaching), else by pivoting (runtime.solve.lcp)."""
     f = solve_with_guess(a_matrix, b, np.ones(b.shape, dtype=bool))
     return lcp.solve(a_matrix, b) if f is None else f
 
@@ -237,7 +237,7 @@ class Frame:
     rows: ContactRows | None  # kernel rows with the velocities after the impacts
     modes: np.ndarray  # Mode per contact (plain ints)
     velocities: np.ndarray  # (n, 3) after the impacts
-    margin: np.ndarray  # per body: how far it may move in the step (runtime.sweep)
+    margin: np.ndarray  # per body: how far it may move in the step (runtime.collide.sweep)
     impact: Impact | None = None
     resting: list = field(init=False)
 

@@ -4,7 +4,7 @@ Why this module exists: a number such as "energy drift 1e-9 J" says little about
 went wrong; a plot of the drift next to the contact forces and a small animation showing the
 bodies, the contact points and their normals make a bad step, a chattering contact or a body
 sinking into a bowl visible at a glance.  Both are drawn from a finished (or partial)
-:class:`runtime.simulation.Run` and the scene's shapes, without touching the engine.
+:class:`runtime.step.simulation.Run` and the scene's shapes, without touching the engine.
 
 Only matplotlib (Agg backend, no display needed) and Pillow (its GIF writer) are used.  Bodies
 are drawn from their exact edges -- segments, convex and concave arcs and ellipses, sampled
@@ -29,7 +29,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from PIL import Image  # noqa: E402
 
-from runtime.shapes import TAU, Arc, Ellipse, Segment  # noqa: E402
+from runtime.model.shapes import TAU, Arc, Ellipse, Segment  # noqa: E402
 
 __all__ = ["MAX_FRAMES", "edge_points", "frame_indices", "plot_energy_forces", "save_animation"]
 

@@ -7,18 +7,18 @@ the end of a step when the bodies have sunk into each other or passed through ea
 Each step (and each sub-step after an impact inside it):
 
 1. Find the contacts that can close within the step: the scene's tolerance inflated by how far
-   each body can move (runtime.sweep), so fast bodies cannot tunnel through thin walls.
-2. Classify them (runtime.collisions.classify: open, colliding, resting, separating) and resolve
-   the impacts among the touching ones (runtime.collisions.resolve); the resting set is what is
+   each body can move (runtime.collide.sweep), so fast bodies cannot tunnel through thin walls.
+2. Classify them (runtime.step.collisions.classify: open, colliding, resting, separating) and resolve
+   the impacts among the touching ones (runtime.step.collisions.resolve); the resting set is what is
    left touching and neither approaching nor separating. Solve its contact forces (warm-started
-   from the last clamped set, runtime.warm_start); a resting contact that moves apart is either
-   pressed back to rest or marked lifting (runtime.resting), so no force does work.
+   from the last clamped set, runtime.solve.warm_start); a resting contact that moves apart is either
+   pressed back to rest or marked lifting (runtime.step.resting), so no force does work.
 3. Integrate a trial step with the forces of the resting set re-solved at every stage (Euler,
    midpoint, RK4, or scipy's adaptive RK45/DOP853 over the step). A resting contact is held at
    d'' >= 0 with d = 0 kept by the exact derived b term; a contact whose force would be negative
    leaves the clamped set.
 4. If an open (or separating) contact's kernel gap reaches 0 during the trial step, locate the
-   first such instant (runtime.impact_time), integrate only up to it and go to 1 with the rest
+   first such instant (runtime.step.impact_time), integrate only up to it and go to 1 with the rest
    of the step; otherwise the trial step is the step.
 
 The recorded grid stays t = k dt; impacts inside steps are listed in ``Run.impact_times``.
@@ -32,15 +32,15 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from runtime import sweep
-from runtime.collisions import Frame, Limits, Mode, contact_key, make_frame
-from runtime.dynamics import ContactDynamics, Stabilisation
-from runtime.guards import FixedEdges, Guards, contact_names, deepest_overlap, energy_scale
-from runtime.impact_time import ImpactSearch
-from runtime.integrators import ADAPTIVE, FIXED_STEP, METHODS
-from runtime.lcp import ContactSolverError
-from runtime.resting import settle
-from runtime.warm_start import WarmStartSolver
+from runtime.collide import sweep
+from runtime.solve.dynamics import ContactDynamics, Stabilisation
+from runtime.solve.lcp import ContactSolverError
+from runtime.solve.warm_start import WarmStartSolver
+from runtime.step.collisions import Frame, Limits, Mode, contact_key, make_frame
+from runtime.step.guards import FixedEdges, Guards, contact_names, deepest_overlap, energy_scale
+from runtime.step.impact_time import ImpactSearch
+from runtime.step.integrators import ADAPTIVE, FIXED_STEP, METHODS
+from runtime.step.resting import settle
 
 DRIFT = 1e-3  # see Simulator._limits
 
@@ -279,7 +279,7 @@ class Simulator:
     def _limits(self, dt: float) -> Limits:
         """The contact limits for steps of ``dt``: a resting contact may drift off a curved
         surface by a small part (DRIFT) of the free-fall distance g dt^2 / 2 in one step and
-        still be held (runtime.collisions.classify), so large steps do not turn it into an
+        still be held (runtime.step.collisions.classify), so large steps do not turn it into an
         impact every few steps."""
         if dt not in self._step_limits:
             drift = DRIFT * 0.5 * self.gravity * dt * dt
@@ -335,7 +335,7 @@ def simulate(
     """Run `scene` for `duration` seconds (defaults from the scene's [simulation] table).
 
     Raises SimulationError when a step fails (the contact solver, a non-finite state) or a
-    guard trips (runtime.guards: penetration, energy growth); its ``run`` holds what was recorded
+    guard trips (runtime.step.guards: penetration, energy growth); its ``run`` holds what was recorded
     up to the last good step and its ``state`` the state before the failing step.
     """
     defaults = scene.simulation
@@ -390,7 +390,7 @@ def simulate(
 
 
 class _Watch:
-    """The guards of one run (runtime.guards) and the SimulationError messages, built in one
+    """The guards of one run (runtime.step.guards) and the SimulationError messages, built in one
     place so every failure names the step, the time and the contacts the same way."""
 
     def __init__(

@@ -2,7 +2,7 @@
 
 Why this module exists: the engine solves the contact LCP at every integrator stage (four times
 per RK4 step), and from one stage to the next the set of contacts that carry a force almost never
-changes. The pivoting solver (runtime.lcp) rebuilds that set from scratch each time, one pivot per
+changes. The pivoting solver (runtime.solve.lcp) rebuilds that set from scratch each time, one pivot per
 contact, which makes it the dominant cost of resting piles and stacks. Here the last clamped set C
 is tried first: solve A_CC f_C = -b_C directly and accept f if it satisfies the LCP conditions
 (f >= 0; a = A f + b = 0 on C and >= 0 elsewhere, to the solver's relative tolerance) -- then it
@@ -16,7 +16,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from runtime import lcp
+from runtime.solve import lcp
 
 
 def solve_with_guess(
@@ -48,9 +48,9 @@ def solve_with_guess(
 
 
 class WarmStartSolver:
-    """A drop-in ``solver(A, b) -> f`` for runtime.dynamics.ContactDynamics.
+    """A drop-in ``solver(A, b) -> f`` for runtime.solve.dynamics.ContactDynamics.
 
-    Set ``keys`` (one hashable identity per row, e.g. runtime.collisions.contact_key) before a
+    Set ``keys`` (one hashable identity per row, e.g. runtime.step.collisions.contact_key) before a
     solve and the guess follows the contacts when the set changes (after an impact); without
     keys the last clamped mask is reused if the size matches.
     """

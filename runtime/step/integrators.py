@@ -1,7 +1,7 @@
 """Fixed-step explicit integrators (Euler, midpoint, classic RK4) on y = (poses, velocities).
 
 `rhs(y)` returns dy/dt; the contact forces are re-solved inside it at every stage. The adaptive
-method is scipy.integrate.solve_ivp (RK45, DOP853), driven from runtime.simulation.
+method is scipy.integrate.solve_ivp (RK45, DOP853), driven from runtime.step.simulation.
 """
 
 from __future__ import annotations

@@ -1,0 +1,1 @@
+"""The application layer: command line and plots (the engine never imports it)."""

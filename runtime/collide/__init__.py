@@ -1,0 +1,1 @@
+"""Broad and narrow phase: which features of which bodies are in contact."""

@@ -1,0 +1,1 @@
+"""Scene files: reading, validation and the checks at load."""

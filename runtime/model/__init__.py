@@ -1,0 +1,1 @@
+"""Bodies, shapes and scenes: the data the engine steps (no physics)."""

@@ -1,0 +1,1 @@
+"""Kernel rows, contact forces (LCP) and impulses."""

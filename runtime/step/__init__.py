@@ -1,0 +1,1 @@
+"""The time step: classification, impacts, events, integration, guards."""

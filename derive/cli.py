@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 
 from derive.cases import ALL_CASES
-from derive.generate import ROOT, generate, render_init
+from derive.generate import ROOT, generate, render_compiled_init, render_init
 
 GENERATED_MARK = "DO NOT EDIT"
 
@@ -38,7 +38,9 @@ def _planned_files(args, names: list[str]) -> dict[Path, str]:
     files = {code_dir / f"{name}.py": r.source for name, r in results.items()}
     present = {p.stem for p in code_dir.glob("*.py") if p.stem in ALL_CASES}
     cases_listed = sorted(set(names) | (present if len(names) < len(ALL_CASES) else set()))
+    files.update({code_dir / "compiled" / f"{n}.py": r.compiled_source for n, r in results.items()})
     files[code_dir / "__init__.py"] = render_init(cases_listed)
+    files[code_dir / "compiled" / "__init__.py"] = render_compiled_init(cases_listed)
     files[docs_dir / "derivations.tex"] = render(results)
     failed = [p.statement for r in results.values() for p in r.proofs if not p.holds]
     if failed:

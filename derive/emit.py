@@ -115,6 +115,37 @@ def emit_function(spec: KernelSpec, geometry: tuple[sp.Symbol, ...]) -> EmittedF
     )
 
 
+_STATE_SOURCES = {
+    "x": "poses[{b}, 0]",
+    "y": "poses[{b}, 1]",
+    "th": "poses[{b}, 2]",
+    "vx": "velocities[{b}, 0]",
+    "vy": "velocities[{b}, 1]",
+    "w": "velocities[{b}, 2]",
+}
+BODY2_COLUMN = 3  # geometry columns: body 1's feature from 0, body 2's from 3 (7 in all)
+
+
+def geometry_columns(geometry: tuple[sp.Symbol, ...]) -> dict[str, int]:
+    """Column of each geometry argument in the engine's (m, 7) geometry array."""
+    first = [str(g) for g in geometry if str(g).endswith("1")]
+    second = [str(g) for g in geometry if str(g).endswith("2")]
+    columns = {name: c for c, name in enumerate(first)}
+    columns.update({name: BODY2_COLUMN + c for c, name in enumerate(second)})
+    return columns
+
+
+def batch_call(arguments: tuple[str, ...], columns: dict[str, int]) -> str:
+    """The argument list of a kernel call inside a batch loop over contacts k (bodies i, j)."""
+    parts = []
+    for a in arguments:
+        if a in columns:
+            parts.append(f"geometry[k, {columns[a]}]")
+        else:
+            parts.append(_STATE_SOURCES[a[:-1]].format(b="i" if a.endswith("1") else "j"))
+    return ", ".join(parts)
+
+
 def environment() -> jinja2.Environment:
     return jinja2.Environment(
         loader=jinja2.FileSystemLoader(TEMPLATES),

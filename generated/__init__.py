@@ -2,6 +2,12 @@
 
 Written by `regenerate-equations`; import a case's module only
 when a scene needs it (runtime.solve.kernels does this), e.g. `import generated.vertex_circle`.
+generated/compiled/ holds the same kernels compiled by numba, for the engine's batch loops.
+
+CASES: the cases generated here. CASE_ID: a fixed number per case (the same whatever subset is
+generated), which the engine stores per contact. GEOMETRY_COLUMNS: where each geometry argument
+of a case sits in the engine's (m, 7) geometry array (body 1's feature from column 0, body 2's
+from column 3).
 """
 
 CASES = (
@@ -10,3 +16,45 @@ CASES = (
     "vertex_circle",
     "vertex_edge",
 )
+
+CASE_ID = {
+    "vertex_edge": 0,
+    "vertex_circle": 1,
+    "circle_edge": 2,
+    "circle_circle": 3,
+}
+
+GEOMETRY_COLUMNS = {
+    "vertex_edge": {
+        "px1": 0,
+        "py1": 1,
+        "ex2": 3,
+        "ey2": 4,
+        "nx2": 5,
+        "ny2": 6,
+    },
+    "vertex_circle": {
+        "px1": 0,
+        "py1": 1,
+        "cx2": 3,
+        "cy2": 4,
+        "r2": 5,
+    },
+    "circle_edge": {
+        "cx1": 0,
+        "cy1": 1,
+        "r1": 2,
+        "ex2": 3,
+        "ey2": 4,
+        "nx2": 5,
+        "ny2": 6,
+    },
+    "circle_circle": {
+        "cx1": 0,
+        "cy1": 1,
+        "r1": 2,
+        "cx2": 3,
+        "cy2": 4,
+        "r2": 5,
+    },
+}

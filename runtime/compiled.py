@@ -1,0 +1,66 @@
+"""Compiled code: numba's ``njit`` with an on-disk cache that cannot go stale.
+
+Why: the engine's hot loops (narrow phase, kernel rows, contact forces, integrator stages) are
+branches and small dense solves over a few numbers per contact, where NumPy's per-call cost is
+most of the time and numba's compiled loops are not. numba caches compiled code on disk, but it
+checks only the source file of the function it compiled: a kernel it calls that changed
+(``regenerate-equations``, a mutation test, an edit) would leave stale machine code in use. So the
+cache lives in a folder named after a hash of every source file of runtime/ and generated/ (and
+the Python and numba versions): any change starts a fresh cache, and old ones are pruned.
+
+``NUMBA_DISABLE_JIT=1`` runs the same functions as plain Python (slow; for debugging).
+Set ``CURVED_EDGE_CACHE`` to put the caches somewhere else than ``~/.cache/curved-edge-physics``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import sys
+from pathlib import Path
+
+import numba
+
+ROOT = Path(__file__).resolve().parent.parent
+KEEP = 4  # cache folders kept (the newest), so switching between versions stays cheap
+
+
+def _source_key() -> str:
+    digest = hashlib.sha256(f"{sys.version}|{numba.__version__}".encode())
+    for package in ("runtime", "generated"):
+        for path in sorted((ROOT / package).rglob("*.py")):
+            digest.update(str(path.relative_to(ROOT)).encode())
+            digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def _cache_folder() -> Path:
+    base = Path(
+        os.environ.get("CURVED_EDGE_CACHE")
+        or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "curved-edge-physics"
+    )
+    folder = base / f"numba-{_source_key()}"
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        old = sorted(
+            (p for p in base.glob("numba-*") if p != folder),
+            key=lambda p: p.stat().st_mtime,
+            reverse=True,
+        )
+        for stale in old[KEEP - 1 :]:
+            shutil.rmtree(stale, ignore_errors=True)
+        os.utime(folder)
+    except OSError:  # a read-only home: numba falls back to compiling without a cache
+        pass
+    return folder
+
+
+CACHE_FOLDER = _cache_folder()
+numba.config.CACHE_DIR = str(CACHE_FOLDER)
+
+
+def njit(*args, **kwargs):
+    """``numba.njit`` with ``cache=True`` (on disk, in :data:`CACHE_FOLDER`) by default."""
+    kwargs.setdefault("cache", True)
+    return numba.njit(*args, **kwargs)

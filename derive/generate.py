@@ -56,8 +56,10 @@ def render_init(cases: list[str]) -> str:
         name: {"id": k, "columns": geometry_columns(case.geometry)}
         for k, (name, case) in enumerate(every.items())
     }
-    text = environment().get_template("generated_init.py.j2").render(
-        cases=sorted(cases), contract=contract
+    text = (
+        environment()
+        .get_template("generated_init.py.j2")
+        .render(cases=sorted(cases), contract=contract)
     )
     return format_python(text)
 

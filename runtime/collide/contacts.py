@@ -23,7 +23,9 @@ from itertools import product
 
 import numpy as np
 
+from generated import CASE_ID, GEOMETRY_COLUMNS
 from runtime.collide import narrowphase
+from runtime.collide.contact_set import KIND_NAMES, Contacts
 from runtime.model.shapes import Shape
 
 CASES = ("vertex_edge", "vertex_circle", "circle_edge", "circle_circle")
@@ -211,3 +213,29 @@ def possible_cases(shapes: Sequence[Shape], fixed: Sequence[bool]) -> set[str]:
             continue
         found |= _cases(a, b) | _cases(b, a)
     return found
+
+
+def as_arrays(found: Sequence[Contact]) -> Contacts:
+    """The contacts as one :class:`~runtime.collide.contact_set.Contacts` (arrays)."""
+    m = len(found)
+    if m == 0:
+        return Contacts.empty()
+    geometry = np.zeros((m, 7))
+    feature = np.zeros((m, 4), dtype=np.int64)
+    kinds = {name: k for k, name in enumerate(KIND_NAMES)}
+    for k, c in enumerate(found):
+        columns = GEOMETRY_COLUMNS[c.case]
+        for name, value in c.geometry.items():
+            geometry[k, columns[name]] = value
+        (kind1, index1), (kind2, index2) = c.feature
+        feature[k] = (kinds[kind1], index1, kinds[kind2], index2)
+    return Contacts(
+        np.array([CASE_ID[c.case] for c in found], dtype=np.int64),
+        np.array([c.body1 for c in found], dtype=np.int64),
+        np.array([c.body2 for c in found], dtype=np.int64),
+        geometry,
+        feature,
+        np.array([c.gap for c in found], dtype=float),
+        np.array([c.point for c in found], dtype=float).reshape(m, 2),
+        np.array([c.normal for c in found], dtype=float).reshape(m, 2),
+    )

@@ -22,7 +22,6 @@ from pathlib import Path
 import numpy as np
 
 import runtime
-from runtime.step.simulation import Simulator
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ("disc_pile", "rounded_stack")
@@ -40,14 +39,15 @@ def settle(
     scene = runtime.load_scene(ROOT / "scenes" / f"{name}.toml")
     min_time = scene.simulation.duration if min_time is None else min_time
     dt = scene.simulation.dt
-    sim = Simulator(scene, scene.simulation.method)
-    poses, vel = scene.poses(), scene.velocities()
+    world = runtime.World(scene, scene.simulation.method)
     penetration, still_since, rest_at = 0.0, None, None
     steps = int(round(max_time / dt))
     start = time.perf_counter()
     for k in range(steps):
-        poses, vel, resting, _ = sim.step(poses, vel, dt)
-        penetration = max(penetration, -sim.last_frame.min_gap)
+        report = world.step(dt)
+        resting = report.recorded
+        penetration = max(penetration, -report.frame.min_gap)
+        vel = world.velocities
         t = (k + 1) * dt
         speed = float(np.max(np.abs(vel)))
         if speed < rest_speed:
@@ -61,7 +61,7 @@ def settle(
         if progress and k % 100 == 0:
             wall = time.perf_counter() - start
             print(f"  {name} t = {t:.3f} s  max |v| = {speed:.3g}  impacts = "
-                  f"{len(sim.impact_times)}  resting = {len(resting)}  wall = {wall:.1f} s",
+                  f"{len(world.impact_times)}  resting = {len(resting)}  wall = {wall:.1f} s",
                   file=sys.stderr, flush=True)  # fmt: skip
     wall = time.perf_counter() - start
     done = k + 1
@@ -72,12 +72,10 @@ def settle(
         "steps": done,
         "wall_s": wall,
         "steps_per_s": done / wall,
-        "impacts": len(sim.impact_times),
+        "impacts": len(world.impact_times),
         "max_penetration_m": penetration,
         "final_max_speed": float(np.max(np.abs(vel))),
         "rest_at_s": rest_at,
-        "warm_start_hits": sim.forces.hits,
-        "lcp_solves": sim.forces.misses,
     }
 
 

@@ -21,9 +21,10 @@ _EXPORTS = {
     "load_scene": "runtime.io.scene_file",
     "scene_from_dict": "runtime.io.scene_file",
     "Run": "runtime.step.simulation",
-    "SimulationError": "runtime.step.simulation",
+    "SimulationError": "runtime.step.world",
     "simulate": "runtime.step.simulation",
-    "Stabilisation": "runtime.solve.dynamics",
+    "World": "runtime.step.world",
+    "Stabilisation": "runtime.solve.forces",
     "Guards": "runtime.step.guards",
 }
 

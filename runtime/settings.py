@@ -6,6 +6,9 @@ apart. Like Box2D's constants.h or Rapier's IntegrationParameters, nothing else 
 types a threshold: modules import them from here. Sections follow the step's stages.
 
 Units: m (lengths), s, m/s, rad; "relative" means a pure number scaled by the quantity named.
+Lengths that must scale with a scene (the contact tolerance) live in the scene (Scene.
+contact_tolerance, default 1e-4 m); the numbers here are either relative or are speeds that the
+user can change per run (simulate(resting_speed=...)).
 """
 
 from __future__ import annotations
@@ -23,8 +26,40 @@ DUPLICATE_EPS = 1e-9  # relative to the pair's size: one constraint reported fro
 
 # -- contact forces (the LCP) ------------------------------------------------------------------
 
+LCP_TOL = 1e-9  # relative to the row's scale (|b| and |A||f|): a residual |a| below it is zero
+DENSE_ISLAND = 48  # contacts: islands up to this size are assembled and solved dense in one
+# compiled call (an A_CC Cholesky of 48 rows costs ~20 us); larger ones go sparse
+
 # -- contacts: touching, resting, impacts ------------------------------------------------------
+
+TOUCH = 1e-9  # m, at most the scene's contact tolerance: the largest gap that counts as
+# touching; a located impact leaves |d| below a thousandth of it (TOUCH_LOCATE)
+TOUCH_LOCATE = 1e-3  # relative to TOUCH: the gap an impact location must reach
+RESTING_SPEED = 1e-3  # m/s: an approach slower than this is plastic (restitution 0) and the
+# contact rests; this is what ends a bouncing ball in finite time (no Zeno sequence of bounces)
+CREEP = 1e-9  # relative to the resting speed: the rounding level of d' (nothing is done below)
+HOLD = 100.0  # relative to TOUCH: a resting contact that drifted open this far is still held
+DRIFT = 1e-3  # relative to the free-fall distance g dt^2 / 2 of one step: how far the integrator
+# may carry a resting contact off a curved surface in a step and still hold it
+MAX_WAVES = 200  # restitution waves of simultaneous impulses before the final plastic pass
+SETTLE_ROUNDS = 8  # press/lift rounds of runtime.step.resting before a step goes on
 
 # -- events and integration -------------------------------------------------------------------
 
+RTOL, ATOL = 1e-9, 1e-12  # the adaptive methods' (rk45, dop853) error tolerances per step
+MAX_EVENTS = 1000  # located impacts allowed inside one step of one island before giving up
+LOCATE_ITERATIONS = 60  # Newton/bisection steps to locate one impact in time
+TIME_EPS = 4.0  # relative to the float spacing of the step length: two times this close are equal
+GRAZE = 1e-6  # relative to TOUCH: a zero of d with d' = 0 that dips less than this is a graze
+FAST_PAIR = 0.25  # relative to the smaller body's half width: a pair that moves more than this
+# against each other within a step is watched by conservative advancement, not by a cubic fit of
+# its gap between the step's ends (a fit misses two discs passing through each other)
+ANGLE_WRAP = 1e3  # rad: angles beyond this are wrapped to (-pi, pi] between steps, so the
+# integrator keeps 1e-13 rad of resolution however long a body spins
+
 # -- guards ------------------------------------------------------------------------------------
+
+PENETRATION_LIMIT = 1e-2  # relative to the smaller body's bounding radius: an overlap deeper
+# than this is a missed impact (a located impact leaves ~1e-12 m)
+ENERGY_GROWTH_LIMIT = 0.5  # relative to the scene's energy scale: frictionless contacts do no
+# work and restitution <= 1, so a rise of the energy by half the scale is an integrator blow-up

@@ -453,7 +453,7 @@ def _check_error(report: Report, exc: Any) -> None:
 def check_run(report: Report) -> None:
     """No NaN, energy bound (conservative integrators), penetration bound, nobody escaped."""
     drawn, scene, run = report.drawn, report.scene, report.run
-    if run is None or not run.t:
+    if run is None or len(run.t) == 0:
         return
     arrays = {
         "t": np.asarray(run.t, dtype=float),

@@ -82,20 +82,13 @@ def _place(points: np.ndarray, pose: Sequence[float]) -> np.ndarray:
 # -- energy and forces --------------------------------------------------------------------------
 
 
-def _contact_key(contact: Any, seen: dict) -> tuple:
-    """A key that follows one contact from step to step: the body pair, the kernel case and the
-    features touching (``Contact.feature``, stable between steps), or a running number when a
-    contact has no features."""
-    base = (
-        getattr(contact, "body1", None),
-        getattr(contact, "body2", None),
-        getattr(contact, "case", None),
-    )
-    feature = getattr(contact, "feature", None)
-    if feature is None:
-        feature = seen.get(base, 0)
-        seen[base] = feature + 1
-    return (*base, feature)
+def _contact_keys(contacts: Any) -> list[tuple]:
+    """Keys that follow each contact from step to step: the body pair, the kernel case and the
+    features touching (stable between steps)."""
+    return [
+        (int(b1), int(b2), contacts.case_name(k), tuple(int(x) for x in contacts.feature[k]))
+        for k, (b1, b2) in enumerate(zip(contacts.body1, contacts.body2, strict=True))
+    ]
 
 
 def per_contact_forces(run: Any) -> dict[tuple, np.ndarray]:
@@ -103,19 +96,18 @@ def per_contact_forces(run: Any) -> dict[tuple, np.ndarray]:
     count = len(run.t)
     series: dict[tuple, np.ndarray] = {}
     for k, (contacts, forces) in enumerate(zip(run.contacts, run.contact_forces, strict=False)):
-        seen: dict = {}
         forces = np.atleast_1d(np.asarray(forces, dtype=float))
-        for contact, force in zip(contacts, forces, strict=False):
-            key = _contact_key(contact, seen)
+        for key, force in zip(_contact_keys(contacts), forces, strict=False):
             series.setdefault(key, np.full(count, np.nan))[k] = force
     return series
 
 
 def _feature_text(feature: Any) -> str:
-    """``(("vertex", 0), ("edge", 2))`` -> ``"vertex 0 / edge 2"``."""
+    """``(0, 2, 1, 0)`` (kind, index, kind, index) -> ``"vertex 2 / edge 0"``."""
+    kinds = ("vertex", "edge", "end")
     try:
-        return " / ".join(f"{kind} {k}" for kind, k in feature)
-    except (TypeError, ValueError):
+        return f"{kinds[feature[0]]} {feature[1]} / {kinds[feature[2]]} {feature[3]}"
+    except (TypeError, ValueError, IndexError):
         return f"#{feature}"
 
 
@@ -311,12 +303,12 @@ def save_animation(
             ax.draw_artist(line)
             spoke.set_data(*_place(spokes[i], pose[i]).T)
             ax.draw_artist(spoke)
-        contacts = run.contacts[k] if k < len(run.contacts) else []
-        pts = np.array([c.point for c in contacts], dtype=float).reshape(-1, 2)
-        nrm = np.array([c.normal for c in contacts], dtype=float).reshape(-1, 2)
+        contacts = run.contacts[k] if k < len(run.contacts) else None
+        pts = np.zeros((0, 2)) if contacts is None else contacts.point
+        nrm = np.zeros((0, 2)) if contacts is None else contacts.normal
         points_line.set_data(pts[:, 0], pts[:, 1])
         normals_line.set_data(*_arrows(pts, nrm, arrow).T)
-        clock.set_text(f"t = {run.t[k]:.3f} s   contacts: {len(contacts)}")
+        clock.set_text(f"t = {run.t[k]:.3f} s   contacts: {len(pts)}")
         for artist in (normals_line, points_line, clock):
             ax.draw_artist(artist)
         rgba = Image.frombuffer("RGBA", canvas.get_width_height(), canvas.buffer_rgba())

@@ -7,17 +7,13 @@ points can move in the step (speed of the centre plus |w| times the bounding rad
 step, doubled, plus |g| h^2 for the change of velocity), and the contact tolerance of a pair is
 inflated by the margins of its two bodies. Every feature pair that can meet during the step is
 then among the contacts found at its start, so its kernel gap can be watched over the step and its
-time of impact located (runtime.step.impact_time). If a body still moves farther than its margin (a
+time of impact located (runtime.step.events). If a body still moves farther than its margin (a
 large contact force), :func:`outran` says so and the search is repeated with wider margins.
 """
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
-
-from runtime.collide import contacts as _contacts
 
 
 def margins(
@@ -38,25 +34,3 @@ def displacement(start: np.ndarray, end: np.ndarray, radii: np.ndarray) -> np.nd
 
 def outran(start: np.ndarray, end: np.ndarray, radii: np.ndarray, margin: np.ndarray) -> bool:
     return bool(np.any(displacement(start, end, radii) > margin))
-
-
-def swept_contacts(scene, poses: np.ndarray, margin: np.ndarray) -> list:
-    """Contacts (runtime.collide.contacts.Contact) at ``poses`` whose gap is at most the scene's contact
-    tolerance plus the margins of their two bodies."""
-    base = scene.contact_tolerance
-    widest = float(np.max(margin, initial=0.0))
-    found = scene.find_contacts(poses, base + 2.0 * widest)
-    if widest == 0.0:
-        return found
-    return [c for c in found if c.gap <= base + margin[c.body1] + margin[c.body2]]
-
-
-def pair_contacts(
-    shapes: list, fixed: list[bool], i: int, j: int, poses: np.ndarray, tolerance: float
-) -> list:
-    """The contacts between bodies i < j only, with the scene's body indices."""
-    found = _contacts.find_contacts(
-        [shapes[i], shapes[j]], poses[[i, j]], [fixed[i], fixed[j]], tolerance
-    )
-    index = (i, j)
-    return [replace(c, body1=index[c.body1], body2=index[c.body2]) for c in found]

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from runtime import settings
 from runtime.model.shapes import TAU, Arc, Segment
 
 
@@ -31,8 +32,8 @@ from runtime.model.shapes import TAU, Arc, Segment
 class Guards:
     """Limits past which a run stops (None: not checked)."""
 
-    penetration: float | None = 1e-2
-    energy_growth: float | None = 0.5
+    penetration: float | None = settings.PENETRATION_LIMIT
+    energy_growth: float | None = settings.ENERGY_GROWTH_LIMIT
 
     def __post_init__(self) -> None:
         for name in ("penetration", "energy_growth"):
@@ -42,8 +43,11 @@ class Guards:
 
 
 def contact_names(scene, contacts) -> str:
-    """'a/b, c/d': the body pairs of ``contacts``, sorted, each once ('none' if there are none)."""
-    names = sorted({f"{scene.bodies[c.body1].name}/{scene.bodies[c.body2].name}" for c in contacts})
+    """'a/b, c/d': the body pairs of ``contacts`` (runtime.collide.contact_set.Contacts),
+    sorted, each once ('none' if there are none)."""
+    bodies = scene.bodies
+    pairs = zip(contacts.body1.tolist(), contacts.body2.tolist(), strict=True)
+    names = sorted({f"{bodies[i].name}/{bodies[j].name}" for i, j in pairs})
     return ", ".join(names) or "none"
 
 
@@ -59,17 +63,37 @@ def energy_scale(scene, radii: np.ndarray, kinetic: float) -> float:
     )
 
 
-def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, object] | None:
-    """(depth, depth / the smaller bounding radius, contact) of the frame's deepest overlap
-    relative to body size, or None if nothing overlaps."""
-    if frame.rows is None:
-        return None
+def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, int] | None:
+    """(depth, depth / the smaller bounding radius, contact index) of the frame's deepest
+    overlap relative to body size, or None if nothing overlaps."""
     depth = -np.asarray(frame.rows.gap, dtype=float)
     if not np.any(depth > 0.0):
         return None
     size = np.minimum(radii[frame.rows.body1], radii[frame.rows.body2])
     k = int(np.argmax(depth / size))
-    return float(depth[k]), float(depth[k] / size[k]), frame.contacts[k]
+    return float(depth[k]), float(depth[k] / size[k]), k
+
+
+def passed_through(
+    start: np.ndarray, end: np.ndarray, inner: np.ndarray, pairs: tuple[np.ndarray, np.ndarray]
+) -> int | None:
+    """Index into ``pairs`` of the first pair of bodies whose centres of mass came closer than
+    the larger of their inner radii during the step (straight paths between the step's poses
+    ``start`` and ``end``), or None. ``inner``: each body's distance from its centre of mass to
+    its boundary (a disc's radius): one centre that far inside the other body means they
+    overlap by at least the smaller body's inner radius: they passed through each other."""
+    i, j = pairs
+    if i.size == 0:
+        return None
+    p0 = start[i, :2] - start[j, :2]
+    d = (end[i, :2] - end[j, :2]) - p0
+    dd = np.einsum("ij,ij->i", d, d)
+    with np.errstate(all="ignore"):
+        s = np.clip(np.where(dd > 0, -np.einsum("ij,ij->i", p0, d) / dd, 0.0), 0.0, 1.0)
+    closest = p0 + s[:, None] * d
+    near = np.einsum("ij,ij->i", closest, closest) < np.maximum(inner[i], inner[j]) ** 2
+    hits = np.flatnonzero(near)
+    return int(hits[0]) if hits.size else None
 
 
 def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -136,3 +160,27 @@ class FixedEdges:
                     if hit.any():
                         return int(np.flatnonzero(hit)[0]), owner
         return None
+
+
+def inner_radius(shape) -> float:
+    """Distance from the body's origin (its centre of mass) to the nearest point of its
+    boundary: the radius of the largest circle about the centre of mass inside a closed body
+    (0 for an open chain, which encloses nothing)."""
+    if not shape.closed:
+        return 0.0
+    best = np.inf
+    for edge in shape.edges:
+        if isinstance(edge, Segment):
+            a, b = np.asarray(edge.start), np.asarray(edge.end)
+            u = b - a
+            t = float(np.clip(-(a @ u) / (u @ u), 0.0, 1.0))
+            best = min(best, float(np.hypot(*(a + t * u))))
+        elif isinstance(edge, Arc):
+            c, r = np.asarray(edge.centre), abs(edge.radius)
+            direction = np.arctan2(-c[1], -c[0]) if np.any(c) else edge.start_angle
+            if edge.contains_angle(float(direction)):
+                best = min(best, abs(float(np.hypot(*c)) - r))
+            best = min(best, *(float(np.hypot(*p)) for p in edge.end_points))
+        else:  # an ellipse: the only edge of its shape, centred at the centre of mass
+            best = min(best, min(edge.a, edge.b))
+    return best

@@ -70,7 +70,7 @@ def test_elastic_scene_energy_stays_within_the_bound(drawn):
     """Frictionless, restitution 1, RK4: E(t) <= E(0) + 1e-6 x the energy scale."""
     report = S.check_scene(drawn)
     assert not report.failures("simulation"), _explain(report)
-    if report.run is not None and report.run.t:
+    if report.run is not None and len(report.run.t):
         energy = np.asarray(report.run.energy)
         assert np.max(energy - energy[0]) <= S.ENERGY_BOUND * drawn.energy_scale
 

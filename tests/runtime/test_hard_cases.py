@@ -21,7 +21,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import runtime
-from runtime.solve.dynamics import ContactDynamics
+from runtime.collide.contacts import as_arrays
+from runtime.step.stepper import Stepper
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "scenes"
@@ -448,7 +449,7 @@ def test_disc_slides_from_a_flat_face_over_a_rounded_corner():
     scene = make_scene(fixed("block", block), disc("disc", r, start, velocity=[v0, 0.0]))
     run = simulate(scene, 0.55, dt)
     cx, cy = width / 2 - rc, height / 2 - rc
-    cases = [c[0].case if c else None for c in run.contacts]
+    cases = [c.case_name(0) if len(c) else None for c in run.contacts]
     order = [k for k, _ in itertools.groupby(cases)]
     assert order[0] == "circle_edge" and "circle_circle" in order and order[-1] is None
     mass = scene.bodies[1].mass
@@ -457,7 +458,7 @@ def test_disc_slides_from_a_flat_face_over_a_rounded_corner():
     worst = mass * vn**2 * (1 + a * length / v0**2) / 2
     energy = np.array(run.energy)
     _check("flat -> arc: energy change (J)", np.max(np.abs(energy - energy[0])), 1.25 * worst)
-    dynamics = ContactDynamics(scene)
+    stepper = Stepper(scene)
     angles, free, radial = [], [], []
     first = cases.index("circle_circle")
     for pose, vel, contacts, force in zip(
@@ -468,12 +469,15 @@ def test_disc_slides_from_a_flat_face_over_a_rounded_corner():
         strict=True,
     ):
         # the arc's contact at this pose, held or not, and its d'' if it pushed with no force
-        arc = [c for c in scene.find_contacts(pose, tolerance=1e-2) if c.case == "circle_circle"]
-        if not arc:
+        found = as_arrays(scene.find_contacts(pose, tolerance=1e-2))
+        arc = found.take(
+            np.array([found.case_name(k) == "circle_circle" for k in range(len(found))], dtype=bool)
+        )
+        if not len(arc):
             break
         angles.append(math.atan2(pose[1, 0] - cx, pose[1, 1] - cy))
-        free.append(dynamics.solve(arc, pose, vel).free_gap_acceleration[0])
-        if contacts and force[0] > 0:
+        free.append(stepper.contact_forces(arc, pose, vel).free_rates[0])
+        if len(contacts) and force[0] > 0:
             radial.append(abs(math.hypot(pose[1, 0] - cx, pose[1, 1] - cy) - length))
     free = np.array(free)
     k = int(np.argmax(free > 0))
@@ -507,7 +511,7 @@ def test_disc_slides_off_a_rounded_apex_onto_the_straight_side():
         disc("disc", r, (apex[0], apex[1] + length), velocity=[v0, 0.0]),
     )
     run = simulate(scene, 0.5, dt)
-    cases = [c[0].case if c else None for c in run.contacts]
+    cases = [c.case_name(0) if len(c) else None for c in run.contacts]
     assert cases[0] == "circle_circle" and cases[-1] == "circle_edge"
     k = cases.index("circle_edge")
     assert "circle_circle" not in cases[k:] and None not in cases
@@ -571,9 +575,8 @@ def test_box_resting_on_redundant_contacts_stays_put(name):
     p = np.array(run.poses)[:, -1]
     _check(f"{name}: motion (m)", np.max(np.abs(p - p[0])), LCP_TOL * G * T**2 / 2)
     for pose, resting, forces in zip(run.poses, run.contacts, run.contact_forces, strict=True):
-        points = np.array([c.point for c in resting])
-        normals = np.array([c.normal for c in resting])
-        sign = np.array([1.0 if c.body1 == len(scene.bodies) - 1 else -1.0 for c in resting])
+        points, normals = resting.point, resting.normal
+        sign = np.where(resting.body1 == len(scene.bodies) - 1, 1.0, -1.0)
         push = (sign * forces)[:, None] * normals  # the force on the box at each contact
         lever = points - pose[-1, :2]
         torque = np.sum(lever[:, 0] * push[:, 1] - lever[:, 1] * push[:, 0])

@@ -1,45 +1,95 @@
-"""runtime/kernels.py: contact rows from the generated kernels.
+"""runtime/solve/rows.py: contact rows from the generated kernels.
 
-Why: the engine evaluates a group of one contact with Python floats (five times cheaper per
-call than 1-element arrays) and larger groups with arrays; both must give the same bits, or a
-run would depend on how many contacts of a case happen to be active.
+Why: the engine evaluates every contact through the compiled batch loops, grouped by case; the
+grouping must not change a contact's numbers (a run would depend on which other contacts happen
+to be active), and they must be the public NumPy kernels' numbers for the same contact (the
+geometry columns, the fixed body 2 and the case dispatch are where a mix-up would hide).
 """
 
 from __future__ import annotations
 
-from dataclasses import fields
+import importlib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+import generated
 import runtime
 from bench.steps import pile_scene
-from runtime.solve.dynamics import ContactDynamics
-from runtime.solve.kernels import evaluate
+from runtime.collide.contacts import as_arrays
+from runtime.solve.rows import RowEvaluator
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
+EPS = float(np.finfo(float).eps)
 
 
-@pytest.mark.parametrize("scene_name", ["pile", "rounded_stack"])
+def _scene(name: str):
+    return pile_scene(20) if name == "pile" else runtime.load_scene(SCENES / f"{name}.toml")
+
+
+TOLERANCE = {"pile": 0.05, "rounded_stack": 0.05, "rounded_box_into_bowl": 0.6}  # m: every case
+
+
+@pytest.mark.parametrize("scene_name", ["pile", "rounded_stack", "rounded_box_into_bowl"])
 def test_one_contact_alone_gives_the_bits_it_gets_in_a_batch(scene_name):
-    """Every resting contact of a pile of 20 discs (circle_circle, circle_edge against the fixed
-    box) and of the rounded stack (circle_edge between moving blocks and on the fixed floor),
-    with random velocities, evaluated alone (floats) and all together (arrays)."""
-    if scene_name == "pile":
-        scene = pile_scene(20)
-    else:
-        scene = runtime.load_scene(SCENES / f"{scene_name}.toml")
+    """Every contact of a pile of 20 discs (circle_circle, circle_edge against the fixed box),
+    of the rounded stack and of the rounded box near the bowl (wide tolerance: every case
+    they have), with random velocities, evaluated alone and all together."""
+    scene = _scene(scene_name)
     rng = np.random.default_rng(3)
     poses = scene.poses()
     velocities = rng.normal(size=poses.shape)
-    contacts = scene.find_contacts(poses)
-    cases = {(c.case, scene.fixed[c.body2]) for c in contacts}
-    assert len(contacts) >= 10 and len(cases) >= 2
-    dynamics = ContactDynamics(scene)
-    batch = evaluate(contacts, dynamics.modules, poses, velocities, scene.fixed)
-    for k, contact in enumerate(contacts):
-        alone = evaluate([contact], dynamics.modules, poses, velocities, scene.fixed)
-        for f in fields(batch):
-            a, b = getattr(alone, f.name), getattr(batch, f.name)[k : k + 1]
-            assert a.tobytes() == b.tobytes(), (contact.case, f.name)
+    contacts = as_arrays(scene.find_contacts(poses, tolerance=TOLERANCE[scene_name]))
+    fixed = np.asarray(scene.fixed)
+    kinds = set(zip(contacts.case.tolist(), fixed[contacts.body2].tolist(), strict=True))
+    assert len(contacts) >= 1 and (scene_name == "rounded_box_into_bowl" or len(kinds) >= 2)
+    evaluator = RowEvaluator(scene.contact_cases(), fixed)
+    batch = evaluator.rows(contacts, poses, velocities)
+    for k in range(len(contacts)):
+        alone = evaluator.rows(contacts.take([k]), poses, velocities)
+        for name in ("gap", "gap_velocity", "jacobian", "bias"):
+            a, b = getattr(alone, name), getattr(batch, name)[k : k + 1]
+            assert a.tobytes() == b.tobytes(), (contacts.describe(k), name)
+
+
+@pytest.mark.parametrize("scene_name", ["pile", "rounded_stack", "rounded_box_into_bowl"])
+def test_rows_are_the_numpy_kernels_numbers(scene_name):
+    """The same contacts through the public NumPy kernels (generated/<case>.py) with keyword
+    arguments built from the contract's geometry columns: equal to 4 eps relative."""
+    scene = _scene(scene_name)
+    rng = np.random.default_rng(4)
+    poses = scene.poses()
+    velocities = rng.normal(size=poses.shape) * ~np.asarray(scene.fixed)[:, None]
+    contacts = as_arrays(scene.find_contacts(poses, tolerance=TOLERANCE[scene_name]))
+    fixed = np.asarray(scene.fixed)
+    rows = RowEvaluator(scene.contact_cases(), fixed).rows(contacts, poses, velocities)
+    for k in range(len(contacts)):
+        case = contacts.case_name(k)
+        module = importlib.import_module(f"generated.{case}")
+        i, j = int(contacts.body1[k]), int(contacts.body2[k])
+        values = {}
+        for digit, body in (("1", i), ("2", j)):
+            values.update(zip((f"x{digit}", f"y{digit}", f"th{digit}"), poses[body], strict=True))
+            values.update(
+                zip((f"vx{digit}", f"vy{digit}", f"w{digit}"), velocities[body], strict=True)
+            )
+        for name, column in generated.GEOMETRY_COLUMNS[case].items():
+            values[name] = contacts.geometry[k, column]
+        suffix = "_static2" if fixed[j] else ""
+
+        def call(name, module=module, values=values):
+            f = getattr(module, name)
+            return f(**{a: values[a] for a in module.ARGUMENTS[name]})
+
+        jacobian = np.zeros(6)
+        jacobian[: 3 if fixed[j] else 6] = call("jacobian" + suffix)
+        expected = {
+            "gap": call("gap"),
+            "gap_velocity": call("gap_velocity" + suffix),
+            "bias": call("bias" + suffix),
+            "jacobian": jacobian,
+        }
+        for name, want in expected.items():
+            got = getattr(rows, name)[k]
+            assert np.all(np.abs(got - want) <= 4 * EPS * (np.abs(want) + 1.0)), (case, name)

@@ -1,0 +1,182 @@
+"""Compiled assembly of Baraff's contact problem from kernel rows, island by island.
+
+For contacts k with Jacobian rows J_k (6 numbers: body 1's x, y, th, body 2's), bodies with
+inverse masses W = diag(1/m, 1/m, 1/I) (0 for fixed bodies) and free accelerations a0 (gravity):
+
+    A_kl = sum over the bodies shared by k and l of J_k(body) W(body) J_l(body)^T
+    b_k  = J_k a0 + bias_k                (d'' of contact k if no contact pushed)
+    acc  = a0 + W J^T f                   (the accelerations under the forces f)
+
+so d'' = A f + b (note section 2). A is built per island (contacts [start, stop) of an order
+grouped by island): O(K^2) per island instead of the O(m n) of a dense J, and the small dense
+blocks are what the LCP solves. Nothing of a contact's geometry is here: J and bias come from the
+generated kernels (runtime.solve.rows).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from runtime.compiled import njit
+
+
+@njit
+def _shared(jac, inv_mass, fixed, ka, body_a, side_a, kb, body_b, side_b):
+    if body_a != body_b or fixed[body_a]:
+        return 0.0
+    s = 0.0
+    for c in range(3):
+        s += jac[ka, side_a + c] * inv_mass[body_a, c] * jac[kb, side_b + c]
+    return s
+
+
+@njit
+def island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A):
+    """A[:K, :K] for the contacts start..stop-1 (K = stop - start)."""
+    for a in range(stop - start):
+        ka = start + a
+        for b in range(a, stop - start):
+            kb = start + b
+            s = _shared(jac, inv_mass, fixed, ka, body1[ka], 0, kb, body1[kb], 0)
+            s += _shared(jac, inv_mass, fixed, ka, body1[ka], 0, kb, body2[kb], 3)
+            s += _shared(jac, inv_mass, fixed, ka, body2[ka], 3, kb, body1[kb], 0)
+            s += _shared(jac, inv_mass, fixed, ka, body2[ka], 3, kb, body2[kb], 3)
+            A[a, b] = s
+            A[b, a] = s
+
+
+@njit
+def free_rates(jac, body1, body2, bias, free_acc, out):
+    """out[k] = J_k a0 + bias_k: b of every contact."""
+    for k in range(bias.size):
+        s = bias[k]
+        i, j = body1[k], body2[k]
+        for c in range(3):
+            s += jac[k, c] * free_acc[i, c] + jac[k, 3 + c] * free_acc[j, c]
+        out[k] = s
+
+
+@njit
+def add_forces(jac, body1, body2, inv_mass, forces, acc):
+    """acc += W J^T f (in place)."""
+    for k in range(forces.size):
+        f = forces[k]
+        if f == 0.0:
+            continue
+        i, j = body1[k], body2[k]
+        for c in range(3):
+            acc[i, c] += inv_mass[i, c] * jac[k, c] * f
+            acc[j, c] += inv_mass[j, c] * jac[k, 3 + c] * f
+
+
+@njit
+def _cholesky(A, idx, L):
+    """L L^T = A[idx, idx]; False if a pivot is not clearly positive (dependent rows)."""
+    k = idx.size
+    for r in range(k):
+        for c in range(r + 1):
+            s = A[idx[r], idx[c]]
+            for p in range(c):
+                s -= L[r, p] * L[c, p]
+            if r == c:
+                if not s > 1e-12 * A[idx[r], idx[r]] or not s > 0.0:
+                    return False
+                L[r, r] = np.sqrt(s)
+            else:
+                L[r, c] = s / L[c, c]
+    return True
+
+
+@njit
+def solve_with_guess(A, b, K, guess, tol, f):
+    """Forces f[:K] >= 0 with a = A f + b = 0 on the guessed clamped set and >= 0 elsewhere, each
+    to tol relative to the row's scale |b_k| + sum_j |A_kj| f_j; False if the guess does not
+    give such a solution (then the pivoting solver must find the set)."""
+    count = 0
+    for k in range(K):
+        if guess[k]:
+            count += 1
+    idx = np.empty(count, np.int64)
+    p = 0
+    for k in range(K):
+        f[k] = 0.0
+        if guess[k]:
+            idx[p] = k
+            p += 1
+    if count == 1:  # one clamped row: f = -b/A exactly (one rounding, as the closed form)
+        k = idx[0]
+        if not A[k, k] > 0.0:
+            return False
+        f[k] = -b[k] / A[k, k]
+        if f[k] < 0.0:
+            return False
+    elif count:
+        L = np.zeros((count, count))
+        if not _cholesky(A, idx, L):
+            return False
+        y = np.empty(count)
+        for r in range(count):
+            s = -b[idx[r]]
+            for c in range(r):
+                s -= L[r, c] * y[c]
+            y[r] = s / L[r, r]
+        for r in range(count - 1, -1, -1):
+            s = y[r]
+            for c in range(r + 1, count):
+                s -= L[c, r] * y[c]
+            y[r] = s / L[r, r]
+        for r in range(count):
+            if y[r] < 0.0:
+                return False
+            f[idx[r]] = y[r]
+    for k in range(K):
+        a = b[k]
+        scale = abs(b[k])
+        for j in range(K):
+            a += A[k, j] * f[j]
+            scale += abs(A[k, j]) * f[j]
+        if guess[k]:
+            if abs(a) > tol * scale:
+                return False
+        elif a < -tol * scale:
+            return False
+    return True
+
+
+@njit
+def solve_small_islands(
+    jac,
+    body1,
+    body2,
+    bias,
+    inv_mass,
+    fixed,
+    free_acc,
+    offsets,
+    guess,
+    tol,
+    limit,
+    forces,
+    rates,
+    ok,
+):
+    """Every island of offsets (contacts grouped by island) with at most ``limit`` contacts:
+    assemble A and b and solve with the warm-start guess. ``rates`` gets b (all contacts),
+    ``ok[g]`` whether island g was solved (False: larger than the limit, or the guess failed;
+    the caller solves it)."""
+    free_rates(jac, body1, body2, bias, free_acc, rates)
+    largest = 0
+    for g in range(offsets.size - 1):
+        size = offsets[g + 1] - offsets[g]
+        if size <= limit:
+            largest = max(largest, size)
+    A = np.empty((largest, largest))
+    for g in range(offsets.size - 1):
+        start, stop = offsets[g], offsets[g + 1]
+        if stop - start > limit:
+            ok[g] = False
+            continue
+        island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A)
+        ok[g] = solve_with_guess(
+            A, rates[start:stop], stop - start, guess[start:stop], tol, forces[start:stop]
+        )

@@ -1,0 +1,239 @@
+"""Which contacts collide, rest or separate, and the frame of one instant after its impacts.
+
+Contact modes (:func:`classify`), decided per contact from its gap d and gap velocity d':
+
+* ``OPEN``: d > ``touch``;
+* ``COLLIDING``: touching and approaching faster than the resting speed: restitution applies;
+* ``RESTING``: touching and |d'| at most the resting speed (approaching) and the separation
+  speed (moving apart; equal to the resting speed): any approach left is removed by a plastic
+  impulse (restitution 0), then the contact force (the LCP on accelerations) holds it. This is
+  what ends a bouncing ball in finite time: once the impact speed is below the resting speed the
+  bounce is plastic and the contact rests -- no Zeno loop of ever smaller bounces. A resting
+  contact that moves apart while the forces press it is made to rest exactly
+  (runtime.step.resting), so nothing hovers;
+* ``SEPARATING``: touching and d' > separation speed: it is left free, and its return, if any,
+  is an impact located in time;
+* ``LIFTING``: resting, but moving apart with nothing pressing it (runtime.step.resting
+  decides): free in the step's force computation, watched like a separating contact, recorded
+  as resting.
+
+Hysteresis: a contact ``held`` (resting in the previous frame) rests up to d' = resting speed
+while it touches, so a contact about to lift off stays in the LCP, which lets it go (zero force)
+as soon as it pulls apart -- the lift-off is decided by the forces, not by speeds. Having drifted
+apart, up to the hold gap, it still rests unless it moves apart (faster than the creep speed: it
+is let go, since a force on a contact moving apart would do work) or comes back faster than the
+separation speed (its impact is located). So a contact in a settling pile that opens by
+nanometres and closes again slowly is one resting contact, not a stream of impacts; the price is
+that it may rest at a gap of up to the hold gap (never at a penetration).
+
+Restitution of a contact: the larger of its two bodies' (as Box2D), 0 below the resting speed;
+and 0 for a contact that was resting at the end of the last step and collides (a resting contact
+drifted open by the integration is not a collision: with restitution 1 it would bounce for
+ever). The creep speed is the rounding level of d' below which nothing is done.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import IntEnum
+
+import numpy as np
+
+from runtime import settings
+from runtime.collide.contact_set import Contacts
+from runtime.solve import assembly, impulses
+from runtime.solve.islands import body_islands, contact_islands, grouped
+from runtime.solve.rows import Rows
+
+
+class Mode(IntEnum):
+    """What a contact does now (see the module docstring); plain ints in arrays."""
+
+    OPEN = 0
+    COLLIDING = 1
+    RESTING = 2
+    SEPARATING = 3
+    LIFTING = 4
+
+
+OPEN, COLLIDING, RESTING, SEPARATING, LIFTING = (int(m) for m in Mode)
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The thresholds of :func:`classify` and the impacts (lengths in m, speeds in m/s)."""
+
+    touch: float  # largest gap that counts as touching
+    hold_gap: float  # largest gap at which a held contact stays touching
+    resting_speed: float  # approach speed below which impacts are plastic
+    separation_speed: float  # a touching contact separating slower than this rests
+    creep_speed: float  # approach left after impacts (rounding level)
+
+    @classmethod
+    def for_step(
+        cls, resting_speed: float, touch: float, tolerance: float, drift: float = 0.0
+    ) -> Limits:
+        """Hold gap the larger of settings.HOLD touch and ``drift`` (how far the integrator may
+        carry a resting contact off its surface in one step), at most the contact tolerance."""
+        hold = min(max(settings.HOLD * touch, drift), tolerance)
+        return cls(touch, hold, resting_speed, resting_speed, settings.CREEP * resting_speed)
+
+
+def classify(
+    gap: np.ndarray,
+    gap_velocity: np.ndarray,
+    limits: Limits,
+    held: np.ndarray | None = None,
+) -> np.ndarray:
+    """Mode of each contact (an int array of :class:`Mode`); ``held``: contacts resting before."""
+    touching = gap <= limits.touch
+    limit: float | np.ndarray = limits.separation_speed
+    if held is not None and held.any():
+        drifted = held & ~touching & (gap <= limits.hold_gap)
+        touching = touching | (
+            drifted
+            & (gap_velocity >= -limits.separation_speed)
+            & (gap_velocity <= limits.resting_speed)
+        )
+        limit = np.where(held, limits.resting_speed, limits.separation_speed)
+    mode = np.where(
+        gap_velocity < -limits.resting_speed,
+        COLLIDING,
+        np.where(gap_velocity <= limit, RESTING, SEPARATING),
+    )
+    mode[~touching] = OPEN
+    return mode
+
+
+@dataclass
+class Frame:
+    """The contacts at one instant (the start of a step or sub-step), classified, after the
+    impacts among them have been resolved."""
+
+    contacts: Contacts
+    keys: list[tuple]  # identity of each contact (Contacts.keys as tuples)
+    rows: Rows  # kernel rows with the velocities after the impacts
+    modes: np.ndarray  # Mode per contact (plain ints)
+    velocities: np.ndarray  # (n, 3) after the impacts
+    margin: np.ndarray  # per body: how far it may move in the step (runtime.collide.sweep)
+    impulses: np.ndarray  # (m,) normal impulse each contact took at this instant
+    impact_loss: float = 0.0  # kinetic energy the impacts took out (J)
+    resting: np.ndarray = field(init=False)  # indices of the resting contacts
+
+    def __post_init__(self) -> None:
+        self.resting = np.flatnonzero(self.modes == RESTING)
+
+    @property
+    def lifting(self) -> np.ndarray:
+        return np.flatnonzero(self.modes == LIFTING)
+
+    @property
+    def monitored(self) -> np.ndarray:
+        """Indices of the contacts whose time of impact is watched: open, separating, lifting."""
+        m = self.modes
+        return np.flatnonzero((m == OPEN) | (m == SEPARATING) | (m == LIFTING))
+
+    @property
+    def min_gap(self) -> float:
+        return float(np.min(self.rows.gap)) if len(self.rows.gap) else np.inf
+
+
+def member(keys: list[tuple], keyset: set | frozenset) -> np.ndarray:
+    """Whether each key is in ``keyset``, as a bool array."""
+    if not keyset:
+        return np.zeros(len(keys), dtype=bool)
+    return np.fromiter((k in keyset for k in keys), dtype=bool, count=len(keys))
+
+
+@dataclass(frozen=True)
+class Bodies:
+    """What the frame needs to know of the bodies: (n, 3) inverse masses, fixed flags,
+    restitution coefficients and masses (for the energy the impacts take)."""
+
+    inverse_mass: np.ndarray
+    fixed: np.ndarray
+    restitution: np.ndarray
+    mass: np.ndarray  # (n, 3): m, m, I (inf for fixed bodies)
+
+    @classmethod
+    def of(cls, scene) -> Bodies:
+        fixed = np.asarray(scene.fixed, dtype=bool)
+        inertia = np.array([b.inertia for b in scene.bodies], dtype=float)
+        mass = np.array([b.mass for b in scene.bodies], dtype=float)
+        return cls(
+            scene.inverse_masses,
+            fixed,
+            np.array([b.restitution for b in scene.bodies], dtype=float),
+            np.column_stack([mass, mass, inertia]),
+        )
+
+    def kinetic(self, velocities: np.ndarray) -> float:
+        moving = ~self.fixed
+        return 0.5 * float(np.sum(self.mass[moving] * velocities[moving] ** 2))
+
+
+def make_frame(
+    evaluator,
+    bodies: Bodies,
+    contacts: Contacts,
+    poses: np.ndarray,
+    velocities: np.ndarray,
+    margin: np.ndarray,
+    held: set,
+    limits: Limits,
+    recent: set | frozenset = frozenset(),
+) -> Frame:
+    """Classify ``contacts`` (``held``: keys of the contacts resting before) and resolve the
+    impacts among the touching ones, island by island. A contact of ``recent`` (resting at the
+    end of the last step) that collides is a resting contact that drifted open, not a
+    collision: plastic."""
+    keys = list(map(tuple, contacts.keys().tolist()))
+    rows = evaluator.rows(contacts, poses, velocities)
+    modes = classify(rows.gap, rows.gap_velocity, limits, member(keys, held))
+    m = len(contacts)
+    frame = Frame(contacts, keys, rows, modes, velocities, margin, np.zeros(m))
+    touching = np.flatnonzero(modes != OPEN)
+    if touching.size == 0 or not np.any(rows.gap_velocity[touching] < -limits.creep_speed):
+        return frame
+    p, dv = _impacts(bodies, contacts, rows, touching, keys, recent, limits)
+    new_velocities = velocities + dv
+    rows = rows.with_velocity_change(dv)
+    new_modes = classify(rows.gap, rows.gap_velocity, limits, member(keys, held))
+    new_modes[modes == OPEN] = OPEN
+    loss = bodies.kinetic(velocities) - bodies.kinetic(new_velocities)
+    return Frame(contacts, keys, rows, new_modes, new_velocities, margin, p, loss)
+
+
+def _impacts(bodies: Bodies, contacts, rows: Rows, touching, keys, recent, limits: Limits):
+    """(impulse per contact, velocity change (n, 3)) of the impacts among the touching
+    contacts, island by island (islands where nothing approaches are left alone)."""
+    n = len(bodies.fixed)
+    b1, b2 = rows.body1[touching], rows.body2[touching]
+    labels = contact_islands(body_islands(n, b1, b2, bodies.fixed), b1, b2, bodies.fixed)
+    order, offsets = grouped(labels)
+    members = touching[order]
+    rate = rows.gap_velocity
+    e = np.maximum(bodies.restitution[rows.body1], bodies.restitution[rows.body2])
+    drifted = member(keys, recent) & (rate < -limits.resting_speed)
+    e[drifted] = 0.0
+    jac = np.ascontiguousarray(rows.jacobian[members])
+    sub_b1, sub_b2 = rows.body1[members], rows.body2[members]
+    p = np.zeros(len(rate))
+    for g in range(len(offsets) - 1):
+        start, stop = int(offsets[g]), int(offsets[g + 1])
+        island = members[start:stop]
+        if not np.any(rate[island] < -limits.creep_speed):
+            continue
+        A = np.empty((stop - start, stop - start))
+        assembly.island_matrix(
+            jac, sub_b1, sub_b2, bodies.inverse_mass, bodies.fixed, start, stop, A
+        )
+        outcome = impulses.resolve(
+            A, rate[island], e[island], limits.resting_speed, limits.creep_speed
+        )
+        p[island] = outcome.impulses
+    dv = np.zeros((n, 3))
+    assembly.add_forces(
+        jac, sub_b1, sub_b2, bodies.inverse_mass, np.ascontiguousarray(p[members]), dv
+    )
+    return p, dv

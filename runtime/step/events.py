@@ -1,0 +1,365 @@
+"""Events: where, inside a trial step, a watched contact's gap d first reaches 0, per island.
+
+Why: an impact handled at the end of a step happens after the bodies have sunk into each other
+(by up to the approach speed times the step), which loses energy, breaks bounce heights and
+lets fast bodies tunnel. The engine integrates a trial step, looks at the gap d and its rate d'
+(both from the generated kernels) of every watched contact, and where d reaches 0 finds the
+instant and restarts that island from there.
+
+* :func:`brackets` decides from (d, d') at both ends which contacts cross zero in the step and
+  gives each an interval and a first guess: the root of the cubic Hermite interpolant of d (exact
+  for free flight, where d is a quadratic in time). It also catches a contact that dips below
+  zero and comes back within the step, and a touching contact that separates and comes back.
+* A *fast pair*, one whose bodies move against each other by more than a fraction
+  (settings.FAST_PAIR) of the smaller one's half width within the step, is sampled at enough
+  instants that it cannot pass through the other body between two samples (a cubic fit of the
+  ends misses two discs passing through each other: their gap is positive at both ends).
+* :func:`locate` refines a bracket by safeguarded Newton on d(t), with the kernel's exact d' as
+  the slope: each evaluation re-integrates the island's step from its start to t, so the restart
+  state is a genuine integrator state with d = 0 (to the located gap), not an interpolation.
+* :class:`EventSearch` puts them together: per island, the earliest located impact that the
+  contact finder confirms (a kernel's gap is that of a whole line or circle: beyond an edge's or
+  arc's end it can cross zero with nothing there) and that is not a graze (a tangent touch,
+  d = 0 with d' = 0 up to rounding, which must not deflect a body skimming past); and, for the
+  pairs that closed in, a feature the contact finder sees penetrating at the trial's end that
+  was not watched at its start (the pair met at another feature within the step).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from runtime import settings
+from runtime.step.classify import LIFTING, SEPARATING
+
+CROSS = "cross"  # open at the start, penetrating at the end
+DIP = "dip"  # open at both ends, below zero in between
+RETURN = "return"  # touching and separating at the start, penetrating at the end
+
+
+@dataclass
+class Bracket:
+    """Watched contact ``index`` crosses d = 0 in (lo, hi) (times from the step start)."""
+
+    index: int
+    lo: float
+    hi: float
+    guess: float
+    kind: str
+    cubic: np.ndarray  # the Hermite cubic of d over [t0, t0 + span], in s = (t - t0) / span
+    t0: float
+    span: float
+
+    def curvature(self, t: float) -> float:
+        """d'' at t from the cubic."""
+        s = (t - self.t0) / self.span
+        return float((2.0 * self.cubic[2] + 6.0 * self.cubic[3] * s) / self.span**2)
+
+
+def hermite(g0: float, v0: float, g1: float, v1: float, h: float) -> np.ndarray:
+    """Coefficients (c0, c1, c2, c3) of p(s) = sum c_k s^k, s = t / h, with p(0) = g0,
+    p(1) = g1, dp/dt = v0 at 0 and v1 at h."""
+    c2 = 3.0 * (g1 - g0) - h * (2.0 * v0 + v1)
+    c3 = 2.0 * (g0 - g1) + h * (v0 + v1)
+    return np.array([g0, h * v0, c2, c3])
+
+
+def _real_roots(c: np.ndarray, lo: float, hi: float) -> list[float]:
+    """Real roots in [lo, hi] of the polynomial with coefficients c (lowest first), sorted."""
+    coeffs = np.trim_zeros(c[::-1], "f")
+    if coeffs.size < 2:
+        return []
+    roots = np.roots(coeffs)
+    real = roots[np.abs(roots.imag) <= 1e-9 * (1.0 + np.abs(roots.real))].real
+    return sorted(float(r) for r in real if lo <= r <= hi)
+
+
+def _extremum(c: np.ndarray, minimum: bool) -> float | None:
+    """s in (0, 1) of the cubic's interior minimum (or maximum), if it has one."""
+    for s in _real_roots(np.array([c[1], 2.0 * c[2], 3.0 * c[3]]), 0.0, 1.0):
+        curvature = 2.0 * c[2] + 6.0 * c[3] * s
+        if 0.0 < s < 1.0 and (curvature > 0 if minimum else curvature < 0):
+            return s
+    return None
+
+
+def _value(c: np.ndarray, s: float) -> float:
+    return float(c[0] + s * (c[1] + s * (c[2] + s * c[3])))
+
+
+def _first_root(c: np.ndarray, lo: float, hi: float) -> float:
+    """First root of the cubic in [lo, hi] (s units); regula falsi if it finds none."""
+    roots = _real_roots(c, lo, hi)
+    if roots:
+        return roots[0]
+    a, b = _value(c, lo), _value(c, hi)
+    return lo + (hi - lo) * a / (a - b) if a != b else 0.5 * (lo + hi)
+
+
+def bracket_one(
+    k: int, g0: float, v0: float, g1: float, v1: float, t0: float, span: float, touching: bool
+) -> Bracket | None:
+    """The bracket of contact k over [t0, t0 + span] from (d, d') at both ends, or None."""
+    c = hermite(g0, v0, g1, v1, span)
+    if touching:
+        if g1 >= 0:
+            return None
+        top = _extremum(c, minimum=False)
+        if top is None:
+            return None
+        guess = t0 + _first_root(c, top, 1.0) * span
+        return Bracket(k, t0 + top * span, t0 + span, guess, RETURN, c, t0, span)
+    if g1 <= 0:
+        return Bracket(k, t0, t0 + span, t0 + _first_root(c, 0.0, 1.0) * span, CROSS, c, t0, span)
+    if not (v0 < 0 < v1):
+        return None
+    low = _extremum(c, minimum=True)
+    if low is None or _value(c, low) >= 0:
+        return None
+    guess = t0 + _first_root(c, 0.0, low) * span
+    return Bracket(k, t0, t0 + low * span, guess, DIP, c, t0, span)
+
+
+def brackets(
+    g0: np.ndarray,
+    v0: np.ndarray,
+    g1: np.ndarray,
+    v1: np.ndarray,
+    h: float,
+    touching: np.ndarray,
+) -> list[Bracket]:
+    """The contacts whose gap reaches 0 during a step of length h, sorted by first guess.
+
+    ``g0, v0`` are d and d' at the start, ``g1, v1`` at the end; ``touching`` marks contacts
+    that touch (and separate) at the start: for them only a return to d < 0 counts. A DIP
+    bracket's ``hi`` and a RETURN bracket's ``lo`` come from the cubic, so the caller must check
+    the sign of the real d there.
+    """
+    maybe = np.where(touching, g1 < 0, (g1 <= 0) | ((v0 < 0) & (v1 > 0)))
+    found = []
+    for k in np.flatnonzero(maybe).tolist():
+        b = bracket_one(k, g0[k], v0[k], g1[k], v1[k], 0.0, h, bool(touching[k]))
+        if b is not None:
+            found.append(b)
+    found.sort(key=lambda b: b.guess)
+    return found
+
+
+def locate(
+    gap: Callable[[float], tuple[float, float]],
+    lo: float,
+    hi: float,
+    guess: float,
+    *,
+    gap_tol: float,
+    time_tol: float,
+    max_iterations: int = settings.LOCATE_ITERATIONS,
+) -> tuple[float, float]:
+    """(t, d(t)) with |d(t)| <= gap_tol, or d(t) <= 0 within time_tol of the crossing, for a gap
+    function ``gap(t) -> (d, d')`` with d(lo) > 0 >= d(hi): Newton steps on d', bisection when a
+    step leaves the bracket."""
+    t = min(max(guess, lo), hi)
+    best = (hi, -math.inf)
+    for _ in range(max_iterations):
+        d, rate = gap(t)
+        if abs(d) <= gap_tol:
+            return t, d
+        if d > 0:
+            lo = t
+        else:
+            hi, best = t, (t, d)
+        if hi - lo <= time_tol:
+            break
+        step = t - d / rate if rate != 0 and math.isfinite(rate) else math.nan
+        t = step if lo < step < hi else 0.5 * (lo + hi)
+    if best[1] == -math.inf:
+        best = (hi, gap(hi)[0])
+    return best
+
+
+def grazes(rate: float, curvature: float, dip: float) -> bool:
+    """Whether a located zero of d is a graze, not an impact: d is at a minimum there (d'' > 0)
+    and dips below 0 by at most ``dip`` (d'^2 / 2 d'', rounding level): a tangent touch, where
+    d = 0 is met with d' = 0 up to rounding -- an impulse there would deflect a body that only
+    skims past."""
+    return rate < 0 < curvature and rate * rate <= 2.0 * curvature * dip
+
+
+class EventSearch:
+    """The first impact of each island within a trial step, for one scene's engine.
+
+    ``collider``: pair contacts at a state (runtime.step.stepper.Collision); ``evaluator``:
+    kernel rows (runtime.solve.rows.RowEvaluator); ``half_width`` (n,): each body's half width
+    (inf for open chains); ``radii`` (n,): bounding radii; ``switches`` (n,): bodies with more
+    than one feature, whose pairs can meet at another feature within a step.
+    """
+
+    def __init__(self, collider, evaluator, touch: float, radii, half_width, switches) -> None:
+        self.collider, self.evaluator, self.touch = collider, evaluator, touch
+        self.radii, self.half_width, self.switches = radii, half_width, switches
+
+    def first(
+        self,
+        frame,
+        start: np.ndarray,
+        trial_end: tuple[np.ndarray, np.ndarray],
+        h: float,
+        island_of_body: np.ndarray,
+        trajectory: Callable[[int], object],
+    ) -> dict[int, float]:
+        """{island: time from the trial's start of its first impact} for the islands that have
+        one. ``start``: the poses at the trial's start; ``trial_end``: the state at h of the
+        whole trial; ``island_of_body``: island label per body (-1 for fixed bodies);
+        ``trajectory(island)``: the island's own trajectory (t -> state) for locating."""
+        watched = frame.monitored
+        if watched.size == 0:
+            return {}
+        contacts = frame.contacts.take(watched)
+        g1, v1 = self.evaluator.gap_and_rate(contacts, *trial_end)
+        g0, v0 = frame.rows.gap[watched], frame.rows.gap_velocity[watched]
+        touching = np.isin(frame.modes[watched], (SEPARATING, LIFTING))
+        found = brackets(g0, v0, g1, v1, h, touching)
+        island = self._islands(contacts, island_of_body)
+        fast = self._fast_pairs(contacts, touching, start, trial_end[0], h, island, trajectory)
+        have = {b.index for b in found}
+        found += [b for b in fast if b.index not in have]
+        found.sort(key=lambda b: b.guess)
+        resting = {frame.keys[k] for k in frame.resting}
+        best: dict[int, float] = {}
+        unconfirmed: dict[int, set] = {}
+        gaps: dict[int, Callable] = {}
+        for bracket in found:
+            k, g = bracket.index, int(island[bracket.index])
+            if k not in gaps:
+                gaps[k] = self._gap_function(contacts, k, trajectory(g))
+            gap = gaps[k]
+            hi = bracket.hi
+            if g in best:
+                if bracket.lo >= best[g] or gap(best[g])[0] > 0:
+                    continue
+                hi = min(hi, best[g])
+            elif bracket.kind == DIP and gap(hi)[0] > 0:
+                continue  # the cubic dipped, the real gap does not
+            if bracket.kind == RETURN and gap(bracket.lo)[0] <= 0:
+                t, d = bracket.lo, 0.0  # it never really left: touching and approaching at lo
+            else:
+                t, d = locate(
+                    gap,
+                    bracket.lo,
+                    hi,
+                    bracket.guess,
+                    gap_tol=settings.TOUCH_LOCATE * self.touch,
+                    time_tol=settings.TIME_EPS * np.finfo(float).eps * h,
+                )
+            if d > self.touch or grazes(
+                gap(t)[1], bracket.curvature(t), settings.GRAZE * self.touch
+            ):
+                continue
+            if self._touches(contacts, k, trajectory(g).at(t)[0], resting):
+                best[g] = t
+            else:
+                unconfirmed.setdefault(g, set()).add(_pair(contacts, k))
+        closing = g1 < g0  # may meet at another feature on the way
+        for k in np.flatnonzero(closing):
+            i, j = int(contacts.body1[k]), int(contacts.body2[k])
+            if self.switches[i] or self.switches[j]:
+                unconfirmed.setdefault(int(island[k]), set()).add(_pair(contacts, k))
+        keys = set(map(tuple, contacts.keys().tolist()))
+        for g, pairs in unconfirmed.items():
+            later = self._new_feature(pairs, keys, trajectory(g), best.get(g, h))
+            if later is not None:
+                best[g] = later
+        return best
+
+    @staticmethod
+    def _islands(contacts, island_of_body: np.ndarray) -> np.ndarray:
+        """Island of each watched contact: that of its moving body (body 1 unless fixed)."""
+        one = island_of_body[contacts.body1]
+        two = island_of_body[contacts.body2]
+        return np.where(one >= 0, one, two)
+
+    def _fast_pairs(self, contacts, touching, q0, q1, h, island, trajectory) -> list:
+        """Brackets of the fast pairs (see the module docstring), found by sampling the
+        island's trajectory at instants closer than a fraction of the smaller half width of
+        relative travel."""
+        b1, b2 = contacts.body1, contacts.body2
+        moved = (q1[b1, :2] - q0[b1, :2]) - (q1[b2, :2] - q0[b2, :2])
+        travel = np.hypot(moved[:, 0], moved[:, 1])
+        travel += np.abs(q1[b1, 2] - q0[b1, 2]) * self.radii[b1]
+        travel += np.abs(q1[b2, 2] - q0[b2, 2]) * self.radii[b2]
+        size = np.minimum(self.half_width[b1], self.half_width[b2])
+        size = np.where(np.isfinite(size), size, np.maximum(self.radii[b1], self.radii[b2]))
+        out = []
+        for k in np.flatnonzero(travel > settings.FAST_PAIR * size).tolist():
+            samples = int(min(max(math.ceil(travel[k] / (settings.FAST_PAIR * size[k])), 2), 4096))
+            traj = trajectory(int(island[k]))
+            gap = self._gap_function(contacts, k, traj)
+            t_prev, (g_prev, v_prev) = 0.0, gap(0.0)
+            for s in range(1, samples + 1):
+                t = h * s / samples
+                g_now, v_now = gap(t)
+                b = bracket_one(
+                    k, g_prev, v_prev, g_now, v_now, t_prev, t - t_prev, bool(touching[k])
+                )
+                if b is not None:
+                    out.append(b)
+                    break
+                t_prev, g_prev, v_prev = t, g_now, v_now
+        return out
+
+    def _gap_function(self, contacts, k: int, traj) -> Callable[[float], tuple[float, float]]:
+        """t -> (d, d') of watched contact k along the island's trajectory; an oval's contact
+        point moves over the oval, so its geometry is found again each time."""
+        one = contacts.take([k])
+        refresh = self.collider.refresh_ovals
+
+        def gap(t: float) -> tuple[float, float]:
+            q, v = traj.at(t)
+            d, rate = self.evaluator.gap_and_rate(refresh(one, q), q, v)
+            return float(d[0]), float(rate[0])
+
+        return gap
+
+    def _touches(self, contacts, k: int, poses: np.ndarray, resting: set) -> bool:
+        """Whether the pair of contact k touches at ``poses`` at a feature not resting before."""
+        i, j = _pair(contacts, k)
+        found = self.collider.pair(i, j, poses, self.touch)
+        return any(key not in resting for key in map(tuple, found.keys().tolist()))
+
+    def _new_feature(self, pairs: set, watched_keys: set, traj, until: float) -> float | None:
+        """Earliest impact, before ``until``, of a feature that a pair reaches only during the
+        step: a pair closing in at one feature can meet at another (an edge's contact sliding
+        onto its corner, a corner turning into an arc). A feature found penetrating at
+        ``until``, not watched at the start and clear of the other body (by more than the touch
+        gap) then, is located like any other."""
+        poses = traj.at(until)[0]
+        earliest = None
+        for i, j in sorted(pairs):
+            found = self.collider.pair(i, j, poses, 0.0)
+            for k, key in enumerate(map(tuple, found.keys().tolist())):
+                if key in watched_keys or found.gap[k] >= -self.touch:
+                    continue
+                gap = self._gap_function(found, k, traj)
+                start, end = gap(0.0)[0], gap(until)[0]
+                if not (start > self.touch and end <= 0):
+                    continue
+                t, d = locate(
+                    gap,
+                    0.0,
+                    until,
+                    until * start / (start - end),
+                    gap_tol=settings.TOUCH_LOCATE * self.touch,
+                    time_tol=settings.TIME_EPS * np.finfo(float).eps * until,
+                )
+                if d <= self.touch and (earliest is None or t < earliest):
+                    earliest = t
+        return earliest
+
+
+def _pair(contacts, k: int) -> tuple[int, int]:
+    i, j = int(contacts.body1[k]), int(contacts.body2[k])
+    return min(i, j), max(i, j)

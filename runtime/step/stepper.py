@@ -1,0 +1,326 @@
+"""The time step, as a pipeline of stages over arrays (the Box2D b2World_Step of this engine).
+
+Why: resting contacts and impacts need different treatment (forces on accelerations for the
+first, velocity jumps for the second), and an impact must be handled when the gap is 0, not at
+the end of a step when the bodies have sunk into each other or passed through each other.
+
+One step of length h from (q, v), for the bodies of one island (at first: all of them):
+
+1. contacts    -- the contacts that can close within h: each body's reach widened by how far it
+                  can move (runtime.collide.sweep), so fast bodies cannot tunnel
+                  (runtime.step.collision);
+2. classify    -- open, colliding, resting, separating (runtime.step.classify), and the impacts
+                  among the touching contacts resolved island by island (runtime.solve.impulses);
+3. settle      -- resting contacts moving apart pressed back or lifting off (runtime.step.resting);
+4. forces      -- the resting contacts' forces per island, warm-started (runtime.solve.forces);
+5. integrate   -- a trial step with the forces solved again at every stage
+                  (runtime.step.integrators);
+6. events      -- per island (bodies joined by the contacts of 1), the first instant an open
+                  contact's generated gap reaches 0 (runtime.step.events);
+7. accept      -- islands without an event take the trial's end state; each island with one is
+                  integrated to its event alone and goes to 1 with the rest of the step.
+
+So an impact in one corner of a scene sub-steps only its island. An impulse can send a body
+farther than its reach in step 1; then the islands are not independent any more, and the step
+is done again with every body in one island (:class:`_Merge`), which is always correct.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import partial
+
+import numpy as np
+
+from runtime import settings
+from runtime.collide import sweep
+from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution, Stabilisation
+from runtime.solve.islands import body_islands, contact_islands
+from runtime.solve.rows import RowEvaluator
+from runtime.step.classify import RESTING, Bodies, Frame, Limits, make_frame
+from runtime.step.collision import Collision
+from runtime.step.events import EventSearch
+from runtime.step.integrators import Trajectory
+from runtime.step.resting import settle
+
+
+class _Merge(Exception):
+    """An island's bodies may reach another island within the step: do it as one island."""
+
+
+@dataclass(frozen=True)
+class RestingSolution:
+    """The resting contacts' forces at a frame: ``forces`` and ``free_rates`` (b) in
+    frame.resting order, the accelerations, and the problem (island order) for the stages."""
+
+    problem: ForceProblem
+    accelerations: np.ndarray
+    forces: np.ndarray
+    free_rates: np.ndarray
+
+
+@dataclass
+class StepReport:
+    """What a step did: its first frame (the contacts at its start) with the forces of the
+    resting (and lifting) contacts there, the located impacts (times from the step's start)
+    and the kinetic energy the impacts took out."""
+
+    frame: Frame | None = None
+    recorded: np.ndarray | None = None  # frame indices of the recorded contacts
+    forces: np.ndarray | None = None  # their forces
+    impact_times: list[float] = field(default_factory=list)
+    impact_loss: float = 0.0
+
+
+class Stepper:
+    """Steps one scene (see the module docstring); runtime.step.world.World drives it."""
+
+    def __init__(
+        self,
+        scene,
+        method: str = "rk4",
+        stabilisation: Stabilisation | None = None,
+        resting_speed: float = settings.RESTING_SPEED,
+    ) -> None:
+        self.scene, self.method = scene, method
+        self.n = len(scene.bodies)
+        self.fixed = np.asarray(scene.fixed, dtype=bool)
+        self.moving = (~self.fixed).astype(float)
+        self.bodies = Bodies.of(scene)
+        self.collision = Collision(scene)
+        self.evaluator = RowEvaluator(scene.contact_cases(), self.fixed)
+        self.forces = ContactForces(scene, stabilisation)
+        self.with_gaps = stabilisation is not None
+        self.resting_speed = resting_speed
+        self.touch = min(settings.TOUCH, scene.contact_tolerance)
+        self.gravity = float(np.hypot(*scene.gravity))
+        self.radii = np.array([s.bounding_radius for s in scene.shapes], dtype=float)
+        from runtime.collide import narrowphase
+
+        half = np.array([narrowphase.table(s).half_width for s in scene.shapes], dtype=float)
+        switches = np.array([len(s.edges) > 1 or bool(s.vertices) for s in scene.shapes])
+        self.events = EventSearch(
+            self.collision, self.evaluator, self.touch, self.radii, half, switches
+        )
+        self.held: set = set()  # keys of the contacts resting in the last frame
+        self.recent: frozenset = frozenset()  # ... at the end of the last step
+        self._limits: dict[float, Limits] = {}
+        self.evaluations = 0  # right-hand-side evaluations (integrator stages)
+
+    # -- stages ----------------------------------------------------------------------------
+
+    def limits(self, h: float) -> Limits:
+        """The contact limits for steps of ``h``: a resting contact may drift off a curved
+        surface by settings.DRIFT of the free-fall distance g h^2 / 2 in one step and still be
+        held, so large steps do not turn it into an impact every few steps."""
+        if h not in self._limits:
+            drift = settings.DRIFT * 0.5 * self.gravity * h * h
+            self._limits[h] = Limits.for_step(
+                self.resting_speed, self.touch, self.scene.contact_tolerance, drift
+            )
+        return self._limits[h]
+
+    def frame(self, q, v, h, limits: Limits, active=None, margin=None) -> Frame:
+        """Stages 1 and 2: the contacts that can close within h, classified, impacts resolved."""
+        if margin is None:
+            margin = sweep.margins(v, h, self.radii, self.moving, self.gravity)
+        contacts = self.collision.swept(q, margin, active)
+        frame = make_frame(
+            self.evaluator, self.bodies, contacts, q, v, margin, self.held, limits, self.recent
+        )
+        self._hold(frame, active)
+        return frame
+
+    def _hold(self, frame: Frame, active) -> None:
+        """Remember the frame's resting contacts (for the hysteresis of the next frame); those
+        of bodies outside ``active`` stay as they were."""
+        resting = {frame.keys[k] for k in frame.resting}
+        if active is None:
+            self.held = resting
+            return
+        mine = active | self.fixed
+        self.held = {k for k in self.held if not (mine[k[0]] and mine[k[1]])} | resting
+
+    def solve(
+        self, q: np.ndarray, frame: Frame, which: np.ndarray | None = None
+    ) -> RestingSolution:
+        """Stage 4 at the frame: forces of the contacts ``which`` (default: the resting ones)."""
+        rest = frame.resting if which is None else which
+        return self.contact_forces(frame.contacts.take(rest), q, frame.velocities)
+
+    def contact_forces(self, contacts, q: np.ndarray, v: np.ndarray) -> RestingSolution:
+        """Forces (and b, the free d'') of ``contacts`` held as resting at (q, v), in their
+        order, and the accelerations they give."""
+        labels = contact_islands(
+            body_islands(self.n, contacts.body1, contacts.body2, self.fixed),
+            contacts.body1,
+            contacts.body2,
+            self.fixed,
+        )
+        problem = self.forces.problem(contacts, labels)
+        rows = self.evaluator.rows(problem.contacts, q, v, self.with_gaps)
+        solution = self.forces.solve(problem, rows)
+        self.forces.remember(problem)
+        m = len(contacts)
+        forces, rates = np.empty(m), np.empty(m)
+        forces[problem.order], rates[problem.order] = solution.forces, solution.free_rates
+        return RestingSolution(problem, solution.accelerations, forces, rates)
+
+    def rhs(self, problem: ForceProblem):
+        """(q, v) -> accelerations with the forces of ``problem``'s contacts solved there."""
+
+        def accelerations(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+            self.evaluations += 1
+            rows = self.evaluator.rows(problem.contacts, q, v, self.with_gaps)
+            solution: ForceSolution = self.forces.solve(problem, rows)
+            return solution.accelerations
+
+        return accelerations
+
+    # -- the step --------------------------------------------------------------------------
+
+    def step(
+        self, q: np.ndarray, v: np.ndarray, h: float
+    ) -> tuple[np.ndarray, np.ndarray, StepReport]:
+        """One step of length h from (q, v): the new state and what the step did."""
+        self.recent = frozenset(self.held)
+        limits = self.limits(h)
+        held = set(self.held)
+        report = StepReport()
+        try:
+            q1, v1 = self._advance(q, v, h, limits, report, split=True)
+        except _Merge:
+            self.held, report = held, StepReport()
+            q1, v1 = self._advance(q, v, h, limits, report, split=False)
+        return q1, v1, report
+
+    def _advance(self, q, v, h, limits, report, split, active=None, reach=None, t0=0.0):
+        """The bodies ``active`` (a bool mask, None: all) advanced by h from (q, v), each island
+        on its own when ``split``. ``reach``: (poses, margins) that this island's bodies must
+        stay within (else :class:`_Merge`); ``t0``: time of q from the step's start."""
+        elapsed, events = 0.0, 0
+        while True:
+            remaining = h - elapsed
+            margin = sweep.margins(v, remaining, self.radii, self.moving, self.gravity)
+            if reach is not None:
+                moved = sweep.displacement(reach[0], q, self.radii)
+                if active is not None and np.any((moved + margin > reach[1])[active]):
+                    raise _Merge
+            frame = self.frame(q, v, remaining, limits, active, margin)
+            frame, resting = settle(frame, partial(self.solve, q), self.bodies, limits.creep_speed)
+            report.impact_loss += frame.impact_loss
+            if report.frame is None:
+                self._record_first(report, q, frame, resting)
+            start_v = frame.velocities
+            trial = Trajectory(
+                self.method, self.rhs(resting.problem), q, start_v, remaining, resting.accelerations
+            )
+            end = trial.at(remaining)
+            labels = self._islands(frame, active)
+            if sweep.outran(q, end[0], self.radii, frame.margin):
+                frame, labels = self._widen(q, end[0], frame, limits, active)
+            trajectory = _IslandTrajectories(self, trial, resting, labels, split)
+            firsts = self.events.first(frame, q, end, remaining, labels, trajectory)
+            if not firsts:
+                return end
+            events += 1
+            if events > settings.MAX_EVENTS:
+                raise RuntimeError(f"more than {settings.MAX_EVENTS} impacts within one step")
+            if not split or np.unique(labels[labels >= 0]).size <= 1:  # one island: sub-step
+                tau = min(firsts.values())
+                report.impact_times.append(t0 + elapsed + tau)
+                q, v = trajectory(min(firsts, key=firsts.get)).at(tau)
+                elapsed += tau
+                continue
+            new_q, new_v = end[0].copy(), end[1].copy()
+            for island, tau in sorted(firsts.items(), key=lambda item: item[1]):
+                members = labels == island
+                report.impact_times.append(t0 + elapsed + tau)
+                q_i, v_i = trajectory(island).at(tau)
+                q_i, v_i = self._advance(
+                    q_i, v_i, remaining - tau, limits, report, True, members,
+                    (q, frame.margin), t0 + elapsed + tau,
+                )  # fmt: skip
+                new_q[members], new_v[members] = q_i[members], v_i[members]
+            return new_q, new_v
+
+    def _islands(self, frame: Frame, active) -> np.ndarray:
+        """Island label per body from the frame's contacts (-1: fixed, or not ``active``)."""
+        c = frame.contacts
+        labels = body_islands(self.n, c.body1, c.body2, self.fixed)
+        labels[self.fixed] = -1
+        if active is not None:
+            labels[~active] = -1
+        return labels
+
+    def _widen(self, q, end_q, frame: Frame, limits: Limits, active):
+        """A body moved farther than its margin (a large contact force): the contacts to watch
+        are found again with margins twice the distances moved; the resting set stays."""
+        wider = np.maximum(frame.margin, 2.0 * sweep.displacement(q, end_q, self.radii))
+        contacts = self.collision.swept(q, wider, active)
+        keys = list(map(tuple, contacts.keys().tolist()))
+        index = {key: k for k, key in enumerate(frame.keys)}
+        rows = self.evaluator.rows(contacts, q, frame.velocities)
+        modes = np.zeros(len(contacts), dtype=int)
+        impulses = np.zeros(len(contacts))
+        for k, key in enumerate(keys):
+            if key in index:
+                modes[k] = frame.modes[index[key]]
+                impulses[k] = frame.impulses[index[key]]
+        widened = Frame(
+            contacts, keys, rows, modes, frame.velocities, wider, impulses, frame.impact_loss
+        )
+        return widened, self._islands(widened, active)
+
+    def _record_first(self, report: StepReport, q, frame: Frame, resting: RestingSolution) -> None:
+        """The contacts and forces a step records: those at its start, lifting ones counted as
+        resting (their force is solved with them)."""
+        report.frame = frame
+        lifting = frame.lifting
+        if lifting.size == 0:
+            report.recorded, report.forces = frame.resting, resting.forces
+            return
+        every = np.sort(np.concatenate([frame.resting, lifting]))
+        report.recorded, report.forces = every, self.solve(q, frame, every).forces
+
+    def classify(
+        self, q: np.ndarray, v: np.ndarray, h: float = 0.0
+    ) -> tuple[Frame, RestingSolution]:
+        """The frame at (q, v) with no time to move (the contacts touching now, with the limits
+        of steps of h), settled, and its resting forces: what a record at the end of a run
+        shows."""
+        limits = self.limits(h)
+        frame = self.frame(q, v, 0.0, limits)
+        return settle(frame, partial(self.solve, q), self.bodies, limits.creep_speed)
+
+
+class _IslandTrajectories:
+    """island -> its own trajectory over the trial (the trial itself when not split): the
+    trial integrated again with only that island's resting contacts, made on first use."""
+
+    def __init__(
+        self, stepper: Stepper, trial: Trajectory, resting: RestingSolution, labels, split
+    ):
+        self.stepper, self.trial, self.resting = stepper, trial, resting
+        self.labels, self.split = labels, split
+        self.made: dict[int, Trajectory] = {}
+
+    def __call__(self, island: int) -> Trajectory:
+        if not self.split:
+            return self.trial
+        if island not in self.made:
+            problem, stepper, trial = self.resting.problem, self.stepper, self.trial
+            keep = self.labels[_moving_body(problem.contacts, stepper.fixed)] == island
+            self.made[island] = Trajectory(
+                stepper.method, stepper.rhs(problem.subset(keep)), trial.q0, trial.v0, trial.h,
+                trial.a0,
+            )  # fmt: skip
+        return self.made[island]
+
+
+def _moving_body(contacts, fixed: np.ndarray) -> np.ndarray:
+    """The moving body of each contact (body 1 unless it is fixed)."""
+    return np.where(fixed[contacts.body1], contacts.body2, contacts.body1)
+
+
+__all__ = ["RESTING", "StepReport", "Stepper"]

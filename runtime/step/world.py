@@ -1,0 +1,321 @@
+"""A scene stepped one step at a time: the engine's state and what a user asks of it.
+
+Why: pymunk users drive a Space step by step, change velocities between steps, and look at the
+contacts; `simulate` and the CLI are built on the same object. A World owns the state
+(t, poses, velocities), the stepper (runtime.step.stepper) and the guards (runtime.step.guards),
+and raises :class:`SimulationError` naming the step, the time and the contacts when a step goes
+wrong -- keeping the state it had before that step.
+
+    world = runtime.World(scene)
+    for _ in range(1000):
+        world.step(1e-3)
+    world.t, world.poses, world.velocities, world.energy()
+    world.contacts, world.contact_forces            # at the current state
+    world.apply_impulse("disc", (0.0, 2.0), point=(0.1, 0.0))
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from runtime import settings
+from runtime.collide.contact_set import Contacts
+from runtime.collide.contacts import candidate_pairs
+from runtime.solve.forces import Stabilisation
+from runtime.solve.lcp import ContactSolverError
+from runtime.step.guards import (
+    FixedEdges,
+    Guards,
+    contact_names,
+    deepest_overlap,
+    energy_scale,
+    inner_radius,
+    passed_through,
+)
+from runtime.step.integrators import METHODS
+from runtime.step.stepper import Stepper, StepReport
+
+
+class SimulationError(RuntimeError):
+    """A step failed. ``state`` is (poses, velocities) before the failing step; ``run`` holds
+    what `simulate` recorded up to the last good step (None for a World used directly)."""
+
+    def __init__(self, message: str, run, state: tuple[np.ndarray, np.ndarray]):
+        super().__init__(message)
+        self.run = run
+        self.state = state
+
+
+def kinetic_energy(scene, velocities: np.ndarray) -> float:
+    """Kinetic energy of the moving bodies."""
+    terms = (
+        0.5 * body.mass * (v[0] ** 2 + v[1] ** 2) + 0.5 * body.inertia * v[2] ** 2
+        for body, v in zip(scene.bodies, velocities, strict=True)
+        if not body.fixed
+    )
+    return float(sum(terms))
+
+
+def mechanical_energy(scene, poses: np.ndarray, velocities: np.ndarray) -> float:
+    """Kinetic + gravitational potential energy of the moving bodies."""
+    g = np.asarray(scene.gravity)
+    potential = sum(
+        -body.mass * float(g @ q[:2])
+        for body, q in zip(scene.bodies, poses, strict=True)
+        if not body.fixed
+    )
+    return kinetic_energy(scene, velocities) + potential
+
+
+def linear_momentum(scene, velocities: np.ndarray) -> np.ndarray:
+    return sum(
+        (b.mass * v[:2] for b, v in zip(scene.bodies, velocities, strict=True) if not b.fixed),
+        np.zeros(2),
+    )
+
+
+class World:
+    """One scene's state, stepped by :meth:`step` (see the module docstring).
+
+    ``method``: one of runtime.step.integrators.METHODS (default: the scene's). ``stabilisation``:
+    Baumgarte drift control (default: the scene's ``[simulation] stabilisation`` flag, which
+    turns on a critically damped one with a time scale of 10 steps of the scene's dt).
+    ``guards``: limits that stop a run that went wrong (runtime.step.guards).
+    """
+
+    def __init__(
+        self,
+        scene,
+        method: str | None = None,
+        *,
+        stabilisation: Stabilisation | None = None,
+        guards: Guards | None = None,
+        resting_speed: float = settings.RESTING_SPEED,
+    ) -> None:
+        defaults = scene.simulation
+        method = (defaults.method if method is None else str(method)).lower()
+        if method not in METHODS:
+            raise ValueError(f"unknown method {method!r}; choose one of {', '.join(METHODS)}")
+        if not (math.isfinite(resting_speed) and resting_speed > 0):
+            raise ValueError(f"resting_speed must be a finite number > 0, got {resting_speed}")
+        if stabilisation is None and defaults.stabilisation:
+            stabilisation = Stabilisation.critically_damped(10.0 * defaults.dt)
+        self.scene, self.method = scene, method
+        self.guards = Guards() if guards is None else guards
+        self.stepper = Stepper(scene, method, stabilisation, resting_speed)
+        self.t = 0.0
+        self.steps = 0
+        self.poses, self.velocities = scene.poses(), scene.velocities()
+        self.last: StepReport | None = None
+        self.impact_times: list[float] = []
+        self._at_state = None  # (frame, resting solution) at the current state, when asked for
+        self._last_dt: float | None = None
+        with np.errstate(all="ignore"):
+            self._energy = mechanical_energy(scene, self.poses, self.velocities)
+            kinetic = kinetic_energy(scene, self.velocities)
+        radii = self.stepper.radii
+        self.energy0 = self._energy
+        self.energy_scale = (
+            energy_scale(scene, radii, kinetic) if self.guards.energy_growth is not None else 0.0
+        )
+        self._edges = FixedEdges(scene) if self.guards.penetration is not None else None
+        self._moving = np.flatnonzero(~np.asarray(scene.fixed, dtype=bool))
+        self._inner = np.array([inner_radius(s) for s in scene.shapes])
+
+    # -- state -----------------------------------------------------------------------------
+
+    def energy(self) -> float:
+        """Kinetic + gravitational potential energy of the moving bodies now (J)."""
+        return self._energy
+
+    def index(self, body: int | str) -> int:
+        if isinstance(body, str):
+            return self.scene.index(body)
+        k = int(body)
+        if not 0 <= k < len(self.scene.bodies):
+            raise IndexError(f"no body {k}: the scene has {len(self.scene.bodies)} bodies")
+        return k
+
+    def apply_impulse(self, body: int | str, impulse, point=None) -> None:
+        """Give a moving body (index or name) the impulse (N s, world axes) at ``point`` (world
+        coordinates; default its centre of mass): its velocity changes by impulse / m and its
+        angular velocity by (point - centre) x impulse / I."""
+        k = self.index(body)
+        b = self.scene.bodies[k]
+        if b.fixed:
+            raise ValueError(f"body {b.name!r} is fixed: an impulse cannot move it")
+        p = np.asarray(impulse, dtype=float).reshape(2)
+        r = (
+            np.zeros(2)
+            if point is None
+            else np.asarray(point, dtype=float).reshape(2) - self.poses[k, :2]
+        )
+        if not (np.all(np.isfinite(p)) and np.all(np.isfinite(r))):
+            raise ValueError(f"impulse and point must be finite, got {impulse!r}, {point!r}")
+        self.velocities[k, :2] += p / b.mass
+        self.velocities[k, 2] += (r[0] * p[1] - r[1] * p[0]) / b.inertia
+        self._changed()
+
+    def _changed(self) -> None:
+        self._at_state = None
+        self._energy = mechanical_energy(self.scene, self.poses, self.velocities)
+
+    def _current(self):
+        if self._at_state is None:
+            h = self._last_dt if self._last_dt is not None else 0.0
+            self._at_state = self.stepper.classify(self.poses, self.velocities, h)
+        return self._at_state
+
+    @property
+    def contacts(self) -> Contacts:
+        """The contacts touching now (resting or touching and separating), as arrays: bodies,
+        case, point, normal, gap (runtime.collide.contact_set.Contacts)."""
+        frame, _ = self._current()
+        return frame.contacts.take(np.flatnonzero(frame.modes != 0))
+
+    @property
+    def contact_forces(self) -> np.ndarray:
+        """The force (N) of each contact of :attr:`contacts` now (0 where it does not rest)."""
+        frame, solution = self._current()
+        touching = np.flatnonzero(frame.modes != 0)
+        forces = np.zeros(len(frame.contacts))
+        forces[frame.resting] = solution.forces
+        return forces[touching]
+
+    def final_frame(self):
+        """(frame, resting solution) at the current state, checked by the penetration guard
+        (the last step may have left an overlap): what the last record of a run shows."""
+        frame, solution = self._current()
+        self._check_start(StepReport(frame=frame))
+        return frame, solution
+
+    # -- stepping --------------------------------------------------------------------------
+
+    def step(self, dt: float) -> StepReport:
+        """Advance the state by dt (s). Raises SimulationError (the state stays as it was)
+        when the step fails or a guard trips."""
+        if not (isinstance(dt, int | float) and math.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+        q, v = self.poses, self.velocities
+        with np.errstate(all="ignore"):
+            try:
+                new_q, new_v, report = self.stepper.step(q, v, float(dt))
+            except (ContactSolverError, RuntimeError, FloatingPointError, ValueError) as exc:
+                raise self.failure(f"failed ({exc})") from exc
+            self._check_start(report)
+            self._check_step(new_q, new_v)
+            energy = mechanical_energy(self.scene, new_q, new_v)
+            self._check_energy(energy)
+        _wrap_angles(new_q)
+        self.impact_times += [self.t + tau for tau in report.impact_times]
+        self.poses, self.velocities, self._energy = new_q, new_v, energy
+        self.steps += 1
+        self.t += float(dt)
+        self.last = report
+        self._last_dt = float(dt)
+        self._at_state = None
+        return report
+
+    # -- guards ----------------------------------------------------------------------------
+
+    def failure(self, what: str, contacts: Contacts | None = None) -> SimulationError:
+        """A SimulationError for the step about to be taken from the current state."""
+        if contacts is None:
+            with np.errstate(all="ignore"):
+                found = np.all(np.isfinite(self.poses))
+                contacts = (
+                    self.stepper.collision.swept(self.poses, np.zeros(len(self.poses)), None)
+                    if found
+                    else Contacts.empty()
+                )
+        return SimulationError(
+            f"step {self.steps} at t = {self.t:.6g} s {what}; contacts: "
+            f"{contact_names(self.scene, contacts)}",
+            None,
+            (self.poses.copy(), self.velocities.copy()),
+        )
+
+    def _check_start(self, report: StepReport) -> None:
+        """The contacts at the start of this step overlap too deeply: the last step made them
+        (or, at step 0, the scene starts that way)."""
+        limit = self.guards.penetration
+        frame = report.frame
+        found = (
+            None if limit is None or frame is None else deepest_overlap(frame, self.stepper.radii)
+        )
+        if found is None or found[1] <= limit:
+            return
+        depth, relative, k = found
+        pair = contact_names(self.scene, frame.contacts.take([k]))
+        size = f"{depth:.3g} m, {relative:.3g} of the smaller body's size (limit {limit:g})"
+        if self.steps == 0:
+            raise self.failure(f"starts with {pair} overlapping by {size}", frame.contacts)
+        raise SimulationError(
+            f"step {self.steps - 1} at t = {self._previous[0]:.6g} s left {pair} overlapping by "
+            f"{size}: {_TOO_LARGE}",
+            None,
+            self._previous[1],
+        )
+
+    def _check_step(self, new_q: np.ndarray, new_v: np.ndarray) -> None:
+        """A non-finite state, a centre of mass through a fixed edge, two moving bodies through
+        each other."""
+        if not (np.all(np.isfinite(new_q)) and np.all(np.isfinite(new_v))):
+            raise self.failure("produced a non-finite state")
+        self._previous = (self.t, (self.poses.copy(), self.velocities.copy()))
+        if self._edges is None:
+            return
+        bodies = self.scene.bodies
+        start, end = self.poses[self._moving, :2], new_q[self._moving, :2]
+        crossed = self._edges.crossing(start, end)
+        if crossed is not None:
+            body, wall = bodies[self._moving[crossed[0]]], bodies[crossed[1]]
+            raise self.failure(
+                f"moved the centre of mass of {body.name} through {wall.name} (it tunnelled): "
+                f"{_TOO_LARGE}"
+            )
+        pairs = self._moving_pairs(new_q)
+        hit = passed_through(self.poses, new_q, self._inner, pairs)
+        if hit is not None:
+            i, j = bodies[pairs[0][hit]], bodies[pairs[1][hit]]
+            raise self.failure(
+                f"moved {i.name} and {j.name} through each other (a centre of mass came inside "
+                f"the other body's inscribed circle): {_TOO_LARGE}"
+            )
+
+    def _moving_pairs(self, new_q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs of moving bodies whose paths over the step came within reach of each other."""
+        mid = 0.5 * (self.poses[:, :2] + new_q[:, :2])
+        half = 0.5 * np.hypot(*(new_q[:, :2] - self.poses[:, :2]).T)
+        hollow = np.asarray(self.scene.fixed, dtype=bool) | (self._inner == 0)
+        i, j = candidate_pairs(mid, half + self._inner, hollow, 0.0)
+        keep = (self._inner[i] > 0) & (self._inner[j] > 0)
+        return i[keep], j[keep]
+
+    def _check_energy(self, energy: float) -> None:
+        if (
+            self.energy_scale > 0
+            and energy - self.energy0 > self.guards.energy_growth * self.energy_scale
+        ):
+            raise self.failure(
+                f"raised the energy from {self.energy0:.6g} J at t = 0 to {energy:.6g} J, "
+                f"more than {self.guards.energy_growth:g} x the scene's energy scale "
+                f"{self.energy_scale:.3g} J (no contact adds energy): the time step is too "
+                f"large for {self.method}"
+            )
+
+
+_TOO_LARGE = (
+    "the time step is too large (or a wall faces the wrong way: a body behind a wall's back "
+    "face passes through it; or a chain's end corners are missing: end_vertices)"
+)
+
+
+def _wrap_angles(poses: np.ndarray) -> None:
+    """Angles beyond settings.ANGLE_WRAP wrapped to (-pi, pi] (in place), so a long spin keeps
+    the integrator's resolution of the angle."""
+    far = np.abs(poses[:, 2]) > settings.ANGLE_WRAP
+    if far.any():
+        poses[far, 2] = np.remainder(poses[far, 2] + np.pi, 2.0 * np.pi) - np.pi

@@ -18,7 +18,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from runtime.model import shapes as _shapes
+from runtime.model import shape_library
 from runtime.step.integrators import METHODS
 
 __all__ = [
@@ -71,7 +71,7 @@ BODY_KEYS = (
 
 # Shape type -> its parameters and their kinds: "positive", "nonnegative", "finite" numbers,
 # "vector" [x, y], "points" [[x, y], ...] (all required) or "flag" (optional bool, default
-# false).  They are passed by keyword to the runtime.model.shapes constructor of the same name.
+# false).  They are passed by keyword to the runtime.model.shape_library constructor of the same name.
 SHAPE_PARAMETERS: dict[str, dict[str, str]] = {
     "disc": {"radius": "positive"},
     "polygon": {"points": "points"},
@@ -336,7 +336,7 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
     fixed = table.boolean("fixed", False)
     kind, kwargs = read_shape_spec(table, fixed=fixed)
     try:
-        shape = getattr(_shapes, kind)(**kwargs)
+        shape = getattr(shape_library, kind)(**kwargs)
     except ValueError as exc:
         table.fail(_shape_field(str(exc), kwargs), str(exc))
     except ArithmeticError as exc:  # e.g. OverflowError from math.* on extreme sizes

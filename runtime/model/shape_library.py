@@ -56,17 +56,21 @@ def polygon(points: Sequence[Sequence[float]]) -> Shape:
     m = len(pts)
     if m < 3:
         raise ValueError(f"polygon: points needs at least 3 vertices, got {m}")
+    # The tests run in coordinates relative to the first corner: a unit square placed at 1e12 m
+    # has products of coordinates near 1e24, whose rounding (1e8) would swamp its area (1).
+    x0, y0 = pts[0]
+    rel = [(x - x0, y - y0) for x, y in pts]
     index = list(range(m))
-    twice_area = sum(pts[i - 1][0] * pts[i][1] - pts[i][0] * pts[i - 1][1] for i in range(m))
+    twice_area = math.fsum(rel[i - 1][0] * rel[i][1] - rel[i][0] * rel[i - 1][1] for i in range(m))
     if twice_area < 0:  # reverse, keeping the first point first
-        pts, index = pts[:1] + pts[:0:-1], index[:1] + index[:0:-1]
-    scale = max(math.hypot(x - pts[0][0], y - pts[0][1]) for x, y in pts)
+        pts, rel, index = pts[:1] + pts[:0:-1], rel[:1] + rel[:0:-1], index[:1] + index[:0:-1]
+    scale = max(math.hypot(x, y) for x, y in rel)
     for i in range(m):
-        if math.hypot(pts[i][0] - pts[i - 1][0], pts[i][1] - pts[i - 1][1]) <= _JOIN * scale:
+        if math.hypot(rel[i][0] - rel[i - 1][0], rel[i][1] - rel[i - 1][1]) <= _JOIN * scale:
             raise ValueError(f"polygon: points repeat at vertex {index[i]} {pts[i]}")
     turning = 0.0
     for i in range(m):
-        (ax, ay), (bx, by), (cx, cy) = pts[i - 1], pts[i], pts[(i + 1) % m]
+        (ax, ay), (bx, by), (cx, cy) = rel[i - 1], rel[i], rel[(i + 1) % m]
         where = f"vertex {index[i]} {pts[i]}"
         cross = (bx - ax) * (cy - by) - (by - ay) * (cx - bx)
         if cross <= _JOIN * scale * scale:

@@ -336,3 +336,26 @@ def test_polygon_rejects_bad_outlines_naming_the_vertex(points, words):
         shapes.polygon(points)
     for word in words:
         assert word in str(err.value)
+
+
+@pytest.mark.parametrize("offset", [1e9, 1e11, 1e12, 1e13, 1e14])
+def test_far_away_unit_square_is_convex_in_both_orientations(offset):
+    """Issue #13: a unit square written at 1e9..1e14 m used to be refused as non-convex in a
+    quarter of the trials (its orientation came from products of coordinates near offset^2).
+    Reference: its area is 1 up to the rounding of its corners (half a spacing of doubles at
+    ``offset`` each, so at most 4 x 2 x that spacing over the perimeter)."""
+    rng = np.random.default_rng(13)
+    bound = 8 * np.spacing(offset)
+    for _ in range(50):
+        x0, y0 = rng.uniform(-1, 1, 2) * offset
+        th = rng.uniform(0, 2 * math.pi)
+        c, s = math.cos(th), math.sin(th)
+        corners = [(x0 + c * u - s * v, y0 + s * u + c * v) for u, v in
+                   ((-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5))]  # fmt: skip
+        for pts in (corners, corners[::-1]):
+            square = shapes.polygon(pts)
+            assert square.area == pytest.approx(1.0, abs=bound)
+            assert len(square.vertices) == 4
+    dart = [(offset + x, offset + y) for x, y in ((0, 0), (1, 0), (0.25, 0.25), (0, 1))]
+    with pytest.raises(ValueError, match="vertex 2 .* is reflex"):
+        shapes.polygon(dart)

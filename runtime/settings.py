@@ -10,6 +10,20 @@ Units: m (lengths), s, m/s, rad; "relative" means a pure number scaled by the qu
 
 from __future__ import annotations
 
+# -- scene input (runtime/io, and the shape constructors of runtime/model) --------------------
+
+LARGEST = 1e50  # m, m/s, rad, s: the largest magnitude of a number read from a scene (but masses,
+# densities and inertias, whose products are checked instead): beyond it squares and fourth powers
+# (areas, second moments, kinetic energies, squared distances) overflow float64
+SMALLEST = 1e-50  # same units: the smallest positive one (its fourth power, 1e-200, still a normal
+# double); below it those powers underflow and shape checks report nonsense
+TOLERANCE_FRACTION = 0.5  # relative to the half-width of the thinnest moving body: the largest
+# contact or overlap tolerance, so a resting contact is never held visibly open
+MAX_AXIS_RATIO = 1e6  # relative: the most slender ellipse, long / short semi-axis. The radius of
+# curvature at the ends of the long axis is short^2 / long = long / ratio^2: at 1e6 it is 1e-12 of
+# the long axis, still ~4500 spacings of the doubles that place those points (2.2e-16 x long);
+# near 6.7e7 it is below one spacing and contact geometry there is rounding noise
+
 # -- geometry and the narrow phase -------------------------------------------------------------
 
 SPAN_EPS = 1e-9  # rad, and relative length: arc spans and segment ends are closed by this much,

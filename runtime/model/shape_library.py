@@ -25,6 +25,7 @@ from runtime.model.shapes import (
     _point,
     shape_from_edges,
 )
+from runtime.settings import MAX_AXIS_RATIO
 
 __all__ = [
     "box_walls",
@@ -146,9 +147,17 @@ def d_shape(width: float, height: float) -> Shape:
 
 
 def ellipse(a: float, b: float) -> Shape:
-    """Ellipse centred at the origin with semi-axes ``a`` (along x) and ``b`` (along y)."""
+    """Ellipse centred at the origin with semi-axes ``a`` (along x) and ``b`` (along y), at most
+    MAX_AXIS_RATIO (runtime/settings.py) times longer than wide."""
     a = _number("a", a, positive=True, where="ellipse: ")
     b = _number("b", b, positive=True, where="ellipse: ")
+    (long, big), (short, small) = sorted((("a", a), ("b", b)), key=lambda p: -p[1])
+    if big > MAX_AXIS_RATIO * small:
+        raise ValueError(
+            f"ellipse: {long} / {short} must be at most {MAX_AXIS_RATIO:g}, got {big / small:.3g}: "
+            f"the radius of curvature at the ends, {short}^2/{long} = {small * small / big:.3g} m, "
+            f"would be lost in the rounding of positions there (~{2.2e-16 * big:.2g} m)"
+        )
     return Shape((Ellipse((0.0, 0.0), a, b),))
 
 

@@ -29,6 +29,7 @@ from runtime.io.scene_validation import (
     read_simulation,
 )
 from runtime.model.scene import Body, Scene, SimulationDefaults
+from runtime.settings import TOLERANCE_FRACTION
 
 __all__ = ["SceneError", "load_scene", "scene_from_dict"]
 
@@ -96,10 +97,6 @@ def scene_from_dict(
     _check_tolerances(scene, scene_table)
     _check_overlaps(scene)
     return scene
-
-
-# A tolerance may be at most this fraction of the half-width of the thinnest moving body.
-TOLERANCE_FRACTION = 0.5
 
 
 def _check_tolerances(scene: Scene, table: Table) -> None:

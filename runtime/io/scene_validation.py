@@ -19,6 +19,7 @@ from typing import Any, NoReturn
 import numpy as np
 
 from runtime.model import shape_library
+from runtime.settings import LARGEST, SMALLEST
 from runtime.step.integrators import METHODS
 
 __all__ = [
@@ -43,15 +44,6 @@ class SceneError(ValueError):
     """Invalid scene input; the message names the file, the body and the field."""
 
 
-# Magnitudes: every number read (but masses, densities and inertias, whose products are checked
-# instead) lies within [-LARGEST, LARGEST], and a positive one is at least SMALLEST. Beyond
-# these, squares and fourth powers (areas, second moments, kinetic energies, squared distances)
-# over- or underflow double precision, and the shapes module's own checks (convexity, areas)
-# would report nonsense such as "collinear" for a huge triangle.
-LARGEST = 1e50
-SMALLEST = 1e-50
-
-
 TOP_LEVEL_KEYS = ("scene", "simulation", "body")
 SCENE_KEYS = ("name", "description", "gravity", "contact_tolerance", "overlap_tolerance")
 SIMULATION_KEYS = ("duration", "dt", "method", "stabilisation")
@@ -71,7 +63,7 @@ BODY_KEYS = (
 
 # Shape type -> its parameters and their kinds: "positive", "nonnegative", "finite" numbers,
 # "vector" [x, y], "points" [[x, y], ...] (all required) or "flag" (optional bool, default
-# false).  They are passed by keyword to the runtime.model.shape_library constructor of the same name.
+# false).  They are passed by keyword to the shape_library constructor of the same name.
 SHAPE_PARAMETERS: dict[str, dict[str, str]] = {
     "disc": {"radius": "positive"},
     "polygon": {"points": "points"},

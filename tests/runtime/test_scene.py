@@ -495,3 +495,73 @@ def test_scene_error_is_a_value_error_and_no_numpy_warning(tmp_path, recwarn):
 def test_scene_dataclass_direct_construction():
     scene = Scene("empty", [])
     assert scene.poses().shape == (0, 3) and scene.inverse_masses.shape == (0, 3)
+
+
+# -- ellipses placed exactly touching (issue #13: refused by up to 4.8 mm) ------------------
+
+
+def _turn(th: float, v) -> np.ndarray:
+    c, s = math.cos(th), math.sin(th)
+    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+def _support(a: float, b: float, th: float, u: np.ndarray) -> np.ndarray:
+    """The point of a centred ellipse turned by ``th`` farthest along ``u`` (where its outward
+    normal is ``u``): the reference for placing bodies against it, independent of the loader."""
+    local = _turn(-th, u)
+    t = math.atan2(b * local[1], a * local[0])
+    return _turn(th, (a * math.cos(t), b * math.sin(t)))
+
+
+def _ellipse(name: str, a: float, b: float, position, angle: float) -> dict:
+    return {"name": name, "shape": {"type": "ellipse", "a": a, "b": b}, "density": 1.0,
+            "position": [float(x) for x in position], "angle": angle}  # fmt: skip
+
+
+def _touching_pairs(rng) -> dict[str, tuple[list, np.ndarray]]:
+    """Bodies placed exactly touching a random ellipse (turned, 0.05..1.5 m axes), each with
+    the unit direction that moves the second body into the first."""
+    a, b = rng.uniform(0.05, 1.5, 2)
+    th = rng.uniform(-math.pi, math.pi)
+    phi = rng.uniform(-math.pi, math.pi)
+    n = np.array([math.cos(phi), math.sin(phi)])  # normal at the touch, out of the ellipse
+    a2, b2, th2, r = (
+        *rng.uniform(0.05, 1.5, 2),
+        rng.uniform(-math.pi, math.pi),
+        rng.uniform(0.01, 1),
+    )
+    tip = _support(a, b, th, n)
+    side = np.array(
+        [n[1], -n[0]]
+    )  # a wall from -5 side to 5 side faces n (material on the -n side)
+    corner = [[0.0, 0.0]] + [
+        [0.2 * math.cos(phi + d), 0.2 * math.sin(phi + d)] for d in (0.5, -0.5)
+    ]
+    low = _support(a, b, th, np.array([0.0, -1.0]))
+    return {
+        "ellipse": ([_ellipse("e1", a, b, (0, 0), th),
+                     _ellipse("e2", a2, b2, tip - _support(a2, b2, th2, -n), th2)], -n),
+        "disc": ([_ellipse("e", a, b, (0, 0), th), disc_body("d", r, tip + r * n)], -n),
+        "polygon corner": ([_ellipse("e", a, b, (0, 0), th),
+                            {"name": "p", "shape": {"type": "polygon", "points": corner},
+                             "density": 1.0, "position": list(tip)}], -n),
+        "floor": ([{"name": "floor", "fixed": True,
+                    "shape": {"type": "wall", "start": [-5.0, 0.0], "end": [5.0, 0.0]}},
+                   _ellipse("e", a, b, (0.3, -low[1]), th)], np.array([0.0, -1.0])),
+        "wall": ([{"name": "wall", "fixed": True,
+                   "shape": {"type": "wall", "start": list(-5 * side), "end": list(5 * side)}},
+                  _ellipse("e", a, b, -_support(a, b, th, -n), th)], -n),
+    }  # fmt: skip
+
+
+@pytest.mark.parametrize("pair", ["ellipse", "disc", "polygon corner", "floor", "wall"])
+def test_exact_touch_on_an_ellipse_loads_and_one_micrometre_inside_is_refused(pair):
+    rng = np.random.default_rng(9)
+    for _ in range(25):
+        bodies, into = _touching_pairs(rng)[pair]
+        scene = scene_from_dict({"scene": {"gravity": [0.0, 0.0]}, "body": bodies})
+        assert min((c.gap for c in scene.find_contacts()), default=0.0) > -1e-9
+        moved = [dict(body) for body in bodies]
+        moved[1]["position"] = list(np.asarray(bodies[1]["position"]) + 1e-6 * into)
+        with pytest.raises(SceneError, match=r"overlap by (at least )?1e-06 m at t = 0"):
+            scene_from_dict({"scene": {"gravity": [0.0, 0.0]}, "body": moved})

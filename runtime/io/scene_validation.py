@@ -13,6 +13,8 @@ import difflib
 import math
 import numbers
 import re
+import reprlib
+import unicodedata
 from collections.abc import Mapping, Sequence
 from typing import Any, NoReturn
 
@@ -91,16 +93,27 @@ def body_label(index: int, name: str | None = None) -> str:
     return f"body {name!r} (#{index + 1})"
 
 
+_SHORT = reprlib.Repr()  # bounded depth and length: a value nested 5,000 deep is "[[[...]]]"
+_SHORT.maxlevel, _SHORT.maxstring, _SHORT.maxother = 3, 40, 40
+
+
 def _describe(value: Any) -> str:
     """A short description of a bad value for an error message."""
     if isinstance(value, str):
-        return f"the string {value!r}"
+        return f"the string {_SHORT.repr(value)}"
     if isinstance(value, Mapping):
         return "a table"
     if isinstance(value, bool):
         return f"the boolean {str(value).lower()}"
-    text = repr(value.tolist() if isinstance(value, np.ndarray) else value)
+    text = _SHORT.repr(value.tolist() if isinstance(value, np.ndarray) else value)
     return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _unprintable(text: str) -> str | None:
+    """The first control, format or line-separator character of ``text``, if any."""
+    return next(
+        (c for c in text if unicodedata.category(c) in ("Cc", "Cf", "Cs", "Zl", "Zp")), None
+    )
 
 
 def _is_number(value: Any) -> bool:
@@ -226,6 +239,17 @@ class Table:
             self.fail(key, f"expected a non-empty string, got {_describe(value)}")
         return value
 
+    def name(self, key: str, default: str) -> str:
+        """A name: a non-empty string without control or format characters, which would
+        reach a terminal raw (escape codes) or hide text (bidirectional overrides)."""
+        value = self.string(key, default)
+        bad = _unprintable(value)
+        if bad is not None:
+            given = "" if self.has(key) else f" (the default, {_SHORT.repr(value)})"
+            self.fail(key, f"contains the non-printing character U+{ord(bad):04X}{given}; "
+                           "a name must be printable text")  # fmt: skip
+        return value
+
     def boolean(self, key: str, default: Any = None) -> bool:
         value = self._get(key, default)
         if not isinstance(value, bool | np.bool_):
@@ -321,10 +345,11 @@ def read_bodies(top: Table) -> list[dict[str, Any]]:
 def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
     """One ``[[body]]`` table, checked, with its shape built (not yet centred)."""
     name = raw.get("name") if isinstance(raw, Mapping) else None
-    label = body_label(index, name if isinstance(name, str) and name.strip() else None)
+    printable = isinstance(name, str) and name.strip() and _unprintable(name) is None
+    label = body_label(index, name if printable else None)
     table = Table(raw, source, label, field="")
     table.check_keys(BODY_KEYS)
-    name = table.string("name", f"body{index + 1}")
+    name = table.name("name", f"body{index + 1}")
     fixed = table.boolean("fixed", False)
     kind, kwargs = read_shape_spec(table, fixed=fixed)
     try:

@@ -27,6 +27,7 @@ import re
 import sys
 import tempfile
 import textwrap
+import threading
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -318,6 +319,20 @@ SCENE_CASES: list[Case] = [
          ("line 15, column 52: TOML syntax error: Duplicate inline table key 'radius'",)),
     Case("file", "TOML syntax error", 'shape = { type = "disc" radius = 0.1 }',
          scene_text(shape='{ type = "disc" radius = 0.1 }')),
+    Case("file", "nested 500 deep", "deep = [[[ ... ]]] (500 levels)",
+         scene_text() + "deep = " + "[" * 500 + "]" * 500 + "\n",
+         ("TOML nested too deeply",)),
+    Case("file", "larger than the size cap", "10 MiB of comments and one byte more",
+         b"#" * (10 * 2**20) + b"\n", ("larger than 10 MiB, the limit of a scene file",)),
+    Case("names", "terminal escape code in a body name", r'name = "\u001b[31mdisc"',
+         scene_text(name=r'"\u001b[31mdisc"'),
+         ("body #2: field 'name'", "contains the non-printing character U+001B",
+          "a name must be printable text")),
+    Case("names", "terminal escape code in the scene name", r'[scene] name = "\u001b]0;x\u0007"',
+         scene_text().replace('name = "bad"', r'name = "\u001b]0;x\u0007"'),
+         ("[scene]: field 'name'", "contains the non-printing character U+001B")),
+    Case("names", "right-to-left override in a body name", r'name = "disc\u202e"',
+         scene_text(name=r'"disc\u202e"'), ("body #2: field 'name'", "U+202E")),
 ]  # fmt: skip
 
 CASE_IDS = [f"{c.category}: {c.what}" for c in SCENE_CASES]
@@ -344,7 +359,8 @@ def test_bad_scene_file_is_refused_naming_file_body_and_field(tmp_path, case):
     message = scene_message(case, tmp_path)
     assert message.startswith("bad.toml: ") and "\n" not in message, message
     located = re.search(r"body (#\d+|'[^']*' \(#\d+\))|\[scene\]|\[simulation\]", message)
-    assert located or "TOML" in message or "UTF-8" in message or "field 'b" in message, message
+    file_level = ("TOML", "UTF-8", "field 'b", "cannot read the file")
+    assert located or any(word in message for word in file_level), message
     for part in case.parts:
         assert part in message, (part, message)
 
@@ -388,6 +404,84 @@ def test_a_refused_value_never_escapes_as_another_exception(tmp_path):
     with pytest.raises(SceneError, match="field 'shape.radius': must be finite"):
         scene_from_dict({"body": [{"name": "b", "shape": {"type": "disc", "radius": 10**400},
                                    "density": 1.0, "position": [0, 0]}]})  # fmt: skip
+
+
+def _loads_within(path, seconds: float = 5.0) -> str:
+    """The SceneError message of ``load_scene(path)``, failing (not hanging) if it blocks."""
+    result: list[str] = []
+
+    def load() -> None:
+        try:
+            load_scene(path)
+            result.append("loaded")
+        except SceneError as exc:
+            assert exc.__suppress_context__
+            result.append(str(exc))
+
+    worker = threading.Thread(target=load, daemon=True)
+    worker.start()
+    worker.join(seconds)
+    assert result, f"load_scene({path}) blocked for {seconds} s"
+    return result[0]
+
+
+def test_a_scene_path_that_is_not_a_regular_file_is_refused_without_reading(tmp_path):
+    """Issue #13: /dev/zero was read forever and a FIFO blocked the open; both are refused
+    before reading, naming the path and what it is."""
+    fifo = tmp_path / "pipe.toml"
+    os.mkfifo(fifo)
+    assert (
+        _loads_within(fifo)
+        == f"{fifo}: cannot read the file: a FIFO (named pipe), not a regular file"
+    )
+    assert (
+        _loads_within(tmp_path)
+        == f"{tmp_path}: cannot read the file: a directory, not a regular file"
+    )
+    if Path("/dev/zero").exists():
+        assert _loads_within("/dev/zero") == (
+            "/dev/zero: cannot read the file: a character device, not a regular file"
+        )
+
+
+def test_symbolic_link_loop_and_dangling_link_are_named(tmp_path):
+    """Issue #13: a loop of links was reported as "not found"."""
+    (tmp_path / "a.toml").symlink_to(tmp_path / "b.toml")
+    (tmp_path / "b.toml").symlink_to(tmp_path / "a.toml")
+    (tmp_path / "gone.toml").symlink_to(tmp_path / "missing.toml")
+    loop, gone = tmp_path / "a.toml", tmp_path / "gone.toml"
+    assert _loads_within(loop) == f"{loop}: cannot read the file: a loop of symbolic links"
+    assert _loads_within(gone) == f"{gone}: file not found (a symbolic link to a missing file)"
+
+
+def test_a_utf8_byte_order_mark_is_accepted_and_bad_bytes_after_it_counted_from_the_start(
+    tmp_path,
+):
+    """Issue #13: a BOM (Windows editors write one) was a TOML syntax error."""
+    source = SCENES / "disc_in_bowl.toml"
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + source.read_bytes())
+    with_bom, plain = load_scene(path), load_scene(source)
+    assert with_bom.names == plain.names and with_bom.name == plain.name
+    np.testing.assert_array_equal(with_bom.poses(), plain.poses())
+    path.write_bytes(b"\xef\xbb\xbf# caf\xe9\n")
+    with pytest.raises(SceneError, match=r"not UTF-8 text \(byte 8\)$"):
+        load_scene(path)
+
+
+def test_values_nested_thousands_deep_in_a_dict_are_described_briefly():
+    """The dict API reaches the checks without tomllib: a 5,000-deep list used to raise
+    RecursionError while its repr was built for the message."""
+    deep: object = 1.0
+    for _ in range(5000):
+        deep = [deep]
+    body = {"name": "d", "shape": {"type": "disc", "radius": 0.1}, "density": 1.0, "position": deep}
+    with pytest.raises(SceneError) as err:
+        scene_from_dict({"body": [body]})
+    assert str(err.value) == (
+        "<dict>: body 'd' (#1): field 'position': expected a list of 2 numbers [x, y], "
+        "got [[[[...]]]]"
+    )
 
 
 # -- the table in docs/bad-input.md --------------------------------------------------------------

@@ -23,6 +23,9 @@ MAX_AXIS_RATIO = 1e6  # relative: the most slender ellipse, long / short semi-ax
 # curvature at the ends of the long axis is short^2 / long = long / ratio^2: at 1e6 it is 1e-12 of
 # the long axis, still ~4500 spacings of the doubles that place those points (2.2e-16 x long);
 # near 6.7e7 it is below one spacing and contact geometry there is rounding noise
+MAX_ANGLE = 2.0**49  # rad (5.6e14): the largest body angle read. From 2^49 on, doubles are
+# 0.125 rad (7 degrees) apart, so the angle written is not the angle read; below it, the loader
+# reduces the angle to (-pi, pi] exactly (atan2 of its sin and cos)
 SCENE_FILE_MAX_BYTES = 10 * 2**20  # bytes (10 MiB): the largest scene file read. A scene of
 # 10,000 bodies is ~1.5 MB; the cap stops /dev/zero-like inputs or a results file given by mistake
 # from filling memory (tomllib holds the text and the parsed tables at once)

@@ -1,5 +1,6 @@
 """Checks of a whole scene at load, after each body is valid on its own: tolerances against the
-bodies' sizes and overlaps at t = 0 (each names the bodies and the field to change)."""
+bodies' sizes, energies and momenta that float64 can hold, and overlaps at t = 0 (each names
+the bodies and the field to change)."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from runtime.io.scene_validation import Table, body_label
 from runtime.model.scene import Scene
 from runtime.settings import TOLERANCE_FRACTION
 
-__all__ = ["check_overlaps", "check_tolerances"]
+__all__ = ["check_finite_scales", "check_overlaps", "check_tolerances"]
 
 
 def check_tolerances(scene: Scene, table: Table) -> None:
@@ -45,6 +46,50 @@ def check_tolerances(scene: Scene, table: Table) -> None:
                 f"{value:g} m{given} is too large for {label}, half-width {half:.6g} m: it "
                 f"{effect}; set it to at most {limit:.3g} m (half that half-width)",
             )
+
+
+def check_finite_scales(scene: Scene) -> None:
+    """Every energy and momentum the engine derives from the initial state must be finite: the
+    guards compare energies with the scene's energy scale (kinetic energy + m |g| (H + 2 r) per
+    moving body, H the height the scene spans; runtime/step/guards.py) and the run records
+    energies and momenta, so an overflow here used to be written as an `inf` energy and a run
+    reported as a success.  Each moving body's terms and the running totals are checked; the
+    first that overflows is named with its body and the field to change."""
+    g = math.hypot(*scene.gravity)
+    gx, gy = scene.gravity
+    radii = [float(b.shape.bounding_radius) for b in scene.bodies]
+    ys = [b.position[1] for b in scene.bodies]
+    height = max(y + r for y, r in zip(ys, radii, strict=True)) - min(
+        y - r for y, r in zip(ys, radii, strict=True)
+    )
+    totals = dict.fromkeys(("kinetic energy", "potential energy", "momentum"), 0.0)
+    for k, body in enumerate(scene.bodies):
+        if body.fixed:
+            continue
+        m, inertia, (x, y), (vx, vy), w = (body.mass, body.inertia, body.position,
+                                           body.velocity, body.angular_velocity)  # fmt: skip
+        mass = f"mass {m:g} kg"
+        terms = (
+            ("velocity", "momentum", m * math.hypot(vx, vy), f"{mass}, speed {math.hypot(vx, vy):g} m/s"),
+            ("angular_velocity", "angular momentum", inertia * abs(w), f"inertia {inertia:g} kg m^2"),
+            ("velocity", "kinetic energy", 0.5 * m * (vx * vx + vy * vy) + 0.5 * inertia * w * w, mass),
+            ("position", "potential energy", -m * (gx * x + gy * y), f"{mass} at ({x:g}, {y:g}) m"),
+            ("position", "share of the energy scale, m |g| (H + 2 r),", m * g * (height + 2 * radii[k]),
+             f"{mass}, H = {height:g} m the height the scene spans"),
+        )  # fmt: skip
+        for field, what, value, detail in terms:
+            if not math.isfinite(value):
+                _not_finite(scene, k, field, f"its {what}", detail)
+            if what in totals:
+                totals[what] += abs(value)
+                if not math.isfinite(totals[what]):
+                    _not_finite(scene, k, field, f"the scene's total {what}", "with this body")
+
+
+def _not_finite(scene: Scene, k: int, field: str, what: str, detail: str) -> None:
+    Table({}, scene.source, body_label(k, scene.bodies[k].name)).fail(
+        field, f"{what} overflows float64 ({detail})"
+    )
 
 
 def check_overlaps(scene: Scene) -> None:

@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from runtime.io.scene_checks import check_overlaps, check_tolerances
+from runtime.io.scene_checks import check_finite_scales, check_overlaps, check_tolerances
 from runtime.io.scene_validation import (
     SCENE_KEYS,
     SIMULATION_KEYS,
@@ -142,5 +142,6 @@ def scene_from_dict(
         source=source,
     )
     check_tolerances(scene, scene_table)
+    check_finite_scales(scene)
     check_overlaps(scene)
     return scene

@@ -9,19 +9,27 @@ turns the checked values into bodies and checks overlaps.
 
 from __future__ import annotations
 
-import difflib
 import math
 import numbers
 import re
 import reprlib
+import sys
 import unicodedata
+import warnings
 from collections.abc import Mapping, Sequence
 from typing import Any, NoReturn
 
 import numpy as np
 
+from runtime.io.scene_hints import (
+    closest,
+    degrees_hint,
+    looks_like_degrees,
+    unknown_key_hint,
+    unknown_type_hint,
+)
 from runtime.model import shape_library
-from runtime.settings import LARGEST, SMALLEST
+from runtime.settings import LARGEST, MAX_ANGLE, SMALLEST
 from runtime.step.integrators import METHODS
 
 __all__ = [
@@ -33,6 +41,7 @@ __all__ = [
     "SIMULATION_KEYS",
     "TOP_LEVEL_KEYS",
     "SceneError",
+    "SceneWarning",
     "Table",
     "body_label",
     "read_bodies",
@@ -44,6 +53,11 @@ __all__ = [
 
 class SceneError(ValueError):
     """Invalid scene input; the message names the file, the body and the field."""
+
+
+class SceneWarning(UserWarning):
+    """Valid scene input that is probably not what was meant (an angle in degrees); the
+    message has the form of a SceneError's."""
 
 
 TOP_LEVEL_KEYS = ("scene", "simulation", "body")
@@ -124,13 +138,6 @@ def _is_sequence(value: Any) -> bool:
     return isinstance(value, Sequence | np.ndarray) and not isinstance(value, str | bytes)
 
 
-def _suggest(key: str, valid: Sequence[str], what: str = "keys") -> str:
-    close = difflib.get_close_matches(key, valid, n=1, cutoff=0.6)
-    if close:
-        return f"did you mean {close[0]!r}?"
-    return f"valid {what}: " + ", ".join(repr(k) for k in valid)
-
-
 class Table:
     """A mapping being read, with the context that error messages need.
 
@@ -149,19 +156,29 @@ class Table:
 
     # -- errors -------------------------------------------------------------------------
     def fail(self, field: str, message: str) -> NoReturn:
+        raise SceneError(self._located(field, message)) from None  # one line, no chained trace
+
+    def warn(self, field: str, message: str) -> None:
+        """Warn (SceneWarning), attributed to the line that called the loader."""
+        frame, level = sys._getframe(0), 1
+        while frame.f_back is not None and frame.f_globals["__name__"].startswith("runtime.io"):
+            frame, level = frame.f_back, level + 1
+        warnings.warn(SceneWarning(self._located(field, message)), stacklevel=level)
+
+    def _located(self, field: str, message: str) -> str:
         parts = [self.source]
         if self.where:
             parts.append(self.where)
         if field:
             parts.append(f"field {self.prefix + field!r}")
         parts.append(message)
-        raise SceneError(": ".join(parts)) from None  # one line, no chained traceback
+        return ": ".join(parts)
 
     def check_keys(self, valid: Sequence[str]) -> None:
-        """Reject keys that are not in ``valid``, suggesting the closest valid one."""
+        """Reject keys that are not in ``valid``, saying why (runtime/io/scene_hints.py)."""
         for key in self.data:
             if key not in valid:
-                self.fail(str(key), f"unknown key; {_suggest(str(key), valid)}")
+                self.fail(str(key), unknown_key_hint(str(key), valid))
 
     def has(self, key: str) -> bool:
         return key in self.data
@@ -276,7 +293,7 @@ def read_shape_spec(body: Table, *, fixed: bool) -> tuple[str, dict[str, Any]]:
     if kind not in SHAPE_PARAMETERS:
         shape.fail(
             "type",
-            f"unknown shape type {kind!r}; {_suggest(kind, list(SHAPE_PARAMETERS), 'types')}",
+            unknown_type_hint(kind, list(SHAPE_PARAMETERS)),
         )
     params = SHAPE_PARAMETERS[kind]
     shape.check_keys(("type", *params))
@@ -314,7 +331,7 @@ def read_simulation(data: Any, source: str, default_duration: float) -> dict[str
     if sim.has("method"):
         method = values["method"] = sim.string("method").lower()
         if method not in METHODS:
-            sim.fail("method", f"unknown method {method!r}; {_suggest(method, METHODS, 'methods')}")
+            sim.fail("method", f"unknown method {method!r}; {closest(method, METHODS, 'methods')}")
     if sim.has("stabilisation"):
         values["stabilisation"] = sim.boolean("stabilisation")
     return values
@@ -352,18 +369,22 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
     name = table.name("name", f"body{index + 1}")
     fixed = table.boolean("fixed", False)
     kind, kwargs = read_shape_spec(table, fixed=fixed)
+    degrees = [k for k in ("start_angle", "end_angle") if looks_like_degrees(kwargs.get(k, 0.0))]
     try:
         shape = getattr(shape_library, kind)(**kwargs)
     except ValueError as exc:
-        table.fail(_shape_field(str(exc), kwargs), str(exc))
+        hint = f"; {degrees_hint([kwargs[k] for k in degrees])}" if degrees else ""
+        table.fail(_shape_field(str(exc), kwargs), f"{exc}{hint}")
     except ArithmeticError as exc:  # e.g. OverflowError from math.* on extreme sizes
         table.fail("shape", f"{kind}: its size is out of range ({exc})")
+    for key in degrees:
+        table.warn(f"shape.{key}", degrees_hint([kwargs[key]]))
     spec: dict[str, Any] = {
         "name": name,
         "shape": shape,
         "fixed": fixed,
         "position": table.vector("position", (0.0, 0.0) if fixed else REQUIRED),
-        "angle": table.number("angle", 0.0),
+        "angle": _read_angle(table),
         "restitution": table.number("restitution", 0.0, check="unit"),
     }
     if fixed:
@@ -390,6 +411,26 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
     spec["angular_velocity"] = table.number("angular_velocity", 0.0)
     _check_mass_properties(table, spec, shape)
     return spec
+
+
+def _read_angle(table: Table) -> float:
+    """The body's angle, reduced to (-pi, pi] (the engine's sin and cos then see the angle
+    exactly; 1e12 rad used to give micrometres of unreported penetration); refused where
+    doubles are too far apart to say which angle was meant; a warning if it looks like
+    degrees."""
+    angle = table.number("angle", 0.0)
+    if abs(angle) >= MAX_ANGLE:
+        table.fail(
+            "angle",
+            f"must be below {MAX_ANGLE:.3g} rad in magnitude, got {angle:g}: doubles there are "
+            f"{math.ulp(angle):g} rad apart, so the angle meant is lost; give it modulo 2 pi",
+        )
+    if looks_like_degrees(angle):
+        table.warn("angle", degrees_hint([angle]))
+    if -math.pi < angle <= math.pi:
+        return angle
+    reduced = math.atan2(math.sin(angle), math.cos(angle))
+    return math.pi if reduced == -math.pi else reduced
 
 
 def _check_mass_properties(table: Table, spec: Mapping[str, Any], shape: Any) -> None:

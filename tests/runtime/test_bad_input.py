@@ -121,6 +121,27 @@ SCENE_CASES: list[Case] = [
          ("field 'bodies'", "unknown key", "did you mean 'body'?")),
     Case("unknown keys", "misspelt shape parameter", 'shape = { type = "disc", radus = 0.1 }',
          scene_text(shape='{ type = "disc", radus = 0.1 }')),
+    # keys naming features the engine lacks, or another engine's word for a valid one
+    Case("unsupported", "friction on a body", "friction = 0.5", scene_text(friction="0.5"),
+         ("body 'disc' (#2): field 'friction'", "friction is not supported yet: contacts are "
+          "frictionless", "remove this key")),
+    Case("unsupported", "a joint table", '[[joint]] bodies = ["floor", "disc"]',
+         scene_text() + '[[joint]]\nbodies = ["floor", "disc"]\n',
+         ("bad.toml: field 'joint': joints are not supported yet",)),
+    Case("unsupported", "a spring table", '[[spring]] stiffness = 100.0',
+         scene_text() + "[[spring]]\nstiffness = 100.0\n",
+         ("field 'spring': springs are not supported yet",)),
+    Case("unsupported", "damping on a body", "linear_damping = 0.1",
+         scene_text(linear_damping="0.1"),
+         ("field 'linear_damping'", "damping is not supported yet")),
+    Case("unsupported", "mutual gravity", "[scene] mutual_gravity = true",
+         scene_text(scene="mutual_gravity = true"),
+         ("[scene]: field 'mutual_gravity'", "gravity is the uniform [scene] gravity")),
+    Case("unsupported", "another engine's word for restitution", "bounciness = 0.5",
+         scene_text(bounciness="0.5"), ("field 'bounciness'", "did you mean 'restitution'?")),
+    Case("unsupported", "another engine's shape type", 'shape = { type = "circle", radius = 0.1 }',
+         scene_text(shape='{ type = "circle", radius = 0.1 }'),
+         ("field 'shape.type'", "unknown shape type 'circle'; use disc")),
     # missing fields
     Case("missing fields", "shape without a type", "shape = { radius = 0.1 }",
          scene_text(shape="{ radius = 0.1 }"),
@@ -223,6 +244,13 @@ SCENE_CASES: list[Case] = [
     Case("out of range", "kinetic energy overflows", "density = 1e300, velocity = [1e10, 0]",
          scene_text(density="1e300", velocity="[1e10, 0.0]"),
          ("field 'velocity'", "kinetic energy 1/2 m v^2 overflows")),
+    Case("out of range", "potential energy overflows", "mass = 1e300, position = [0, 1e9]",
+         scene_text(drop=("density",), mass="1e300", position="[0.0, 1e9]"),
+         ("body 'disc' (#2): field 'position'", "its potential energy overflows float64 (mass "
+          "1e+300 kg at (0, 1e+09) m)")),
+    Case("out of range", "momentum overflows", "mass = 1.5e308, velocity = [1.5, 0]",
+         scene_text(drop=("density",), mass="1.5e308", velocity="[1.5, 0.0]"),
+         ("field 'velocity'", "its momentum overflows float64")),
     # shapes
     Case("shapes", "non-convex polygon", "points = [[0, 0], [1, 0], [0.2, 0.2], [0, 1]]",
          scene_text(shape='{ type = "polygon", points = [[0, 0], [1, 0], [0.2, 0.2], [0, 1]] }',
@@ -271,6 +299,18 @@ SCENE_CASES: list[Case] = [
          scene_text(drop=("density",), fixed="true",
                     shape='{ type = "bowl", radius = 1.0, start_angle = 0.0, end_angle = 7.0 }'),
          ("field 'shape.end_angle'", "by at most 2 pi, got 7.0")),
+    Case("arcs", "bowl in degrees", "start_angle = 0, end_angle = 180",
+         scene_text(drop=("density",), fixed="true",
+                    shape='{ type = "bowl", radius = 1.0, start_angle = 0, end_angle = 180 }'),
+         ("field 'shape.end_angle'", "got 180.0; angles are in radians: 180 looks like degrees "
+          "(180 deg = 3.14159 rad)")),
+    Case("arcs", "bowl in degrees, both ends", "start_angle = -150, end_angle = -30",
+         scene_text(drop=("density",), fixed="true",
+                    shape='{ type = "bowl", radius = 1.0, start_angle = -150, end_angle = -30 }'),
+         ("-150 and -30 look like degrees (-150 and -30 deg = -2.61799 and -0.523599 rad)",)),
+    Case("out of range", "an angle beyond any precision", "angle = 1e15", scene_text(angle="1e15"),
+         ("field 'angle'", "must be below 5.63e+14 rad in magnitude, got 1e+15: doubles there are "
+          "0.125 rad apart")),
     # moving or fixed
     Case("moving/fixed", "concave edge (bowl) on a moving body",
          'shape = { type = "bowl", ... }, not fixed',
@@ -360,7 +400,8 @@ def test_bad_scene_file_is_refused_naming_file_body_and_field(tmp_path, case):
     assert message.startswith("bad.toml: ") and "\n" not in message, message
     located = re.search(r"body (#\d+|'[^']*' \(#\d+\))|\[scene\]|\[simulation\]", message)
     file_level = ("TOML", "UTF-8", "field 'b", "cannot read the file")
-    assert located or any(word in message for word in file_level), message
+    top_level = message.startswith("bad.toml: field '")  # a key outside every table
+    assert located or top_level or any(word in message for word in file_level), message
     for part in case.parts:
         assert part in message, (part, message)
 

@@ -565,3 +565,132 @@ def test_exact_touch_on_an_ellipse_loads_and_one_micrometre_inside_is_refused(pa
         moved[1]["position"] = list(np.asarray(bodies[1]["position"]) + 1e-6 * into)
         with pytest.raises(SceneError, match=r"overlap by (at least )?1e-06 m at t = 0"):
             scene_from_dict({"scene": {"gravity": [0.0, 0.0]}, "body": moved})
+
+
+# -- angles: reduced at load, refused beyond precision, degrees warned (issue #13, #14) -----
+
+
+@pytest.mark.parametrize("angle", [4.0, -4.0, math.pi, -math.pi, 7.5, -1e6, 1e12, 5e14])
+def test_body_angle_is_reduced_to_minus_pi_pi_exactly(angle):
+    """Reference: the angle modulo 2 pi in 50-digit arithmetic (mpmath), folded into
+    (-pi, pi]; the centre of mass of an off-centre shape follows the same turn."""
+    mpmath = pytest.importorskip("mpmath")
+    with mpmath.workdps(50):
+        exact = mpmath.mpf(angle) - 2 * mpmath.pi * mpmath.floor(
+            (mpmath.mpf(angle) + mpmath.pi) / (2 * mpmath.pi)
+        )  # in [-pi, pi)
+        exact = float(exact if exact > -mpmath.pi else exact + 2 * mpmath.pi)
+    half = {"name": "h", "shape": {"type": "half_disc", "radius": 0.5}, "density": 1.0,
+            "position": [1.0, 2.0], "angle": angle}  # fmt: skip
+    body = scene_from_dict({"body": [half]}).bodies[0]
+    assert -math.pi < body.angle <= math.pi
+    # equal as angles (-pi and pi are one angle; the float -pi lies just inside (-pi, pi])
+    assert abs(math.remainder(body.angle - exact, 2 * math.pi)) <= 4e-16
+    c = 4 * 0.5 / (3 * math.pi)  # the centroid above the arc's centre, turned by the angle
+    np.testing.assert_allclose(
+        body.position, [1.0 - c * math.sin(exact), 2.0 + c * math.cos(exact)], rtol=0, atol=1e-15
+    )
+
+
+def test_an_angle_in_range_is_kept_bit_for_bit():
+    body = scene_from_dict({"body": [disc_body(angle=0.3)]}).bodies[0]
+    assert body.angle == 0.3
+
+
+def test_angle_at_the_precision_limit_is_refused_naming_the_field():
+    with pytest.raises(SceneError) as err:
+        scene_from_dict({"body": [disc_body(angle=2.0**49)]})
+    assert str(err.value) == (
+        "<dict>: body 'disc' (#1): field 'angle': must be below 5.63e+14 rad in magnitude, got "
+        "5.6295e+14: doubles there are 0.125 rad apart, so the angle meant is lost; give it "
+        "modulo 2 pi"
+    )
+
+
+def test_an_angle_that_looks_like_degrees_warns_once_from_the_callers_line():
+    from runtime.io.scene_validation import SceneWarning
+
+    with pytest.warns(SceneWarning) as caught:
+        scene_from_dict({"body": [disc_body(angle=90)]})
+    assert [str(w.message) for w in caught] == [
+        "<dict>: body 'disc' (#1): field 'angle': angles are in radians: 90 looks like degrees "
+        "(90 deg = 1.5708 rad)"
+    ]
+    assert caught[0].filename == __file__  # attributed to this call, not to the loader
+    bowl = {"name": "bowl", "fixed": True,
+            "shape": {"type": "bowl", "radius": 1.0, "start_angle": -10.0, "end_angle": -5.0}}  # fmt: skip
+    with pytest.warns(SceneWarning, match=r"field 'shape\.start_angle': .*-10 looks like degrees"):
+        scene_from_dict({"body": [bowl]})
+
+
+@pytest.mark.parametrize("angle", [0.3, 3.0, 6.0, 7.5, 400.0, -1e6])
+def test_angles_that_do_not_look_like_degrees_do_not_warn(angle, recwarn):
+    scene_from_dict({"body": [disc_body(angle=angle)]})
+    assert not recwarn.list
+
+
+# -- energies and momenta float64 can hold (issue #13: inf energies written as a success) ----
+
+
+@pytest.mark.parametrize(
+    ("bodies", "message"),
+    [
+        (
+            [disc_body(mass=1e300, position=(0.0, 1e9))],
+            "body 'disc' (#1): field 'position': its potential energy overflows float64 "
+            "(mass 1e+300 kg at (0, 1e+09) m)",
+        ),
+        (
+            [
+                disc_body(mass=1e300, position=(0.0, 1e7)),
+                disc_body("b", mass=1e300, position=(0.0, -1e7)),
+            ],
+            "body 'disc' (#1): field 'position': its share of the energy scale, m |g| (H + 2 r), "
+            "overflows float64 (mass 1e+300 kg, H = 2e+07 m the height the scene spans)",
+        ),
+        (
+            [disc_body(mass=1.5e308, velocity=(1.5, 0.0))],
+            "body 'disc' (#1): field 'velocity': its momentum overflows float64 "
+            "(mass 1.5e+308 kg, speed 1.5 m/s)",
+        ),
+        (
+            [
+                disc_body(mass=1e307, position=(0.0, 1.0)),
+                disc_body("twin", mass=1e307, position=(0.5, 1.0)),
+            ],
+            "body 'twin' (#2): field 'position': the scene's total potential energy overflows "
+            "float64 (with this body)",
+        ),
+    ],
+    ids=["m g h", "energy scale", "momentum", "total"],
+)
+def test_energies_and_momenta_that_overflow_are_refused_naming_body_and_field(bodies, message):
+    for body in bodies:
+        body.pop("density")
+    with pytest.raises(SceneError) as err:
+        scene_from_dict({"body": bodies})
+    assert str(err.value) == f"<dict>: {message}"
+
+
+def test_the_largest_finite_energies_still_load():
+    """The check is an overflow test, not a size limit: 1e306 kg twins at y = 1 m load, and
+    their energy sum is finite (reference: m g y summed by hand)."""
+    bodies = [
+        disc_body(mass=1e306, position=(0.0, 1.0)),
+        disc_body("twin", mass=1e306, position=(0.5, 1.0)),
+    ]
+    for body in bodies:
+        body.pop("density")
+    scene = scene_from_dict({"body": bodies})
+    assert sum(b.mass * 9.81 * b.position[1] for b in scene.bodies) == pytest.approx(1.962e307)
+
+
+# -- [simulation] stabilisation reaches the scene (issue #13; simulate reads it: the lead) ---
+
+
+@pytest.mark.parametrize("flag", [True, False])
+def test_stabilisation_flag_in_the_file_is_carried_by_the_scene(tmp_path, flag):
+    header = GOOD_HEADER + f"stabilisation = {str(flag).lower()}\n"
+    scene = load_scene(write(tmp_path, disc_toml(), header=header))
+    assert scene.simulation.stabilisation is flag
+    assert load_scene(write(tmp_path, disc_toml())).simulation.stabilisation is False

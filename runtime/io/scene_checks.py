@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Sequence
+from decimal import ROUND_FLOOR, Decimal
 
 import numpy as np
 
@@ -14,7 +15,7 @@ from runtime.collide import narrowphase as _narrowphase
 from runtime.io.scene_overlap import deepest_overlap
 from runtime.io.scene_validation import Table, body_label
 from runtime.model.scene import Scene
-from runtime.settings import TOLERANCE_FRACTION
+from runtime.settings import SMALLEST, TOLERANCE_FRACTION
 
 __all__ = ["check_finite_scales", "check_overlaps", "check_tolerances"]
 
@@ -23,7 +24,9 @@ def check_tolerances(scene: Scene, table: Table) -> None:
     """The contact and overlap tolerances are absolute lengths (defaults 1e-4 m and 1e-9 m):
     against a small body they stop being small.  A contact tolerance near a body's size holds
     resting bodies visibly apart (a resting contact is kept up to that gap), and an overlap
-    tolerance near it lets overlapping bodies start; both are refused, naming the body."""
+    tolerance near it lets overlapping bodies start; both are refused, naming the body, with
+    a value to use that the loader accepts.  A body so small that no tolerance fits (at least
+    SMALLEST, at most TOLERANCE_FRACTION of its half-width) is refused itself."""
     moving = [(k, b) for k, b in enumerate(scene.bodies) if not b.fixed]
     if not moving:
         return
@@ -31,21 +34,38 @@ def check_tolerances(scene: Scene, table: Table) -> None:
     half, k = min(widths)
     limit = TOLERANCE_FRACTION * half
     label = body_label(k, scene.bodies[k].name)
-    for key, value, effect in (
-        ("contact_tolerance", scene.contact_tolerance, "would hold resting bodies that far apart"),
-        (
-            "overlap_tolerance",
-            scene.overlap_tolerance,
-            "would let bodies start that deep inside each other",
-        ),  # fmt: skip
-    ):
-        if value > limit:
-            given = "" if table.has(key) else " (the default)"
-            table.fail(
-                key,
-                f"{value:g} m{given} is too large for {label}, half-width {half:.6g} m: it "
-                f"{effect}; set it to at most {limit:.3g} m (half that half-width)",
-            )
+    if limit < SMALLEST:
+        Table({}, scene.source, label).fail(
+            "shape",
+            f"half-width {half:.6g} m is below {SMALLEST / TOLERANCE_FRACTION:g} m, the smallest "
+            f"moving body: its contact and overlap tolerances (at least {SMALLEST:g} m, at most "
+            f"{TOLERANCE_FRACTION:g} x its half-width) would not fit; make it larger",
+        )
+    suggestion = f"{_round_down(limit):g} m"
+    effects = {
+        "contact_tolerance": "would hold resting bodies that far apart",
+        "overlap_tolerance": "would let bodies start that deep inside each other",
+    }
+    values = {
+        "contact_tolerance": scene.contact_tolerance,
+        "overlap_tolerance": scene.overlap_tolerance,
+    }
+    too_large = [key for key, value in values.items() if value > limit]
+    for key in too_large:
+        given = "" if table.has(key) else " (the default)"
+        also = [f"{other} ({values[other]:g} m) too" for other in too_large if other != key]
+        table.fail(
+            key,
+            f"{values[key]:g} m{given} is too large for {label}, half-width {half:.6g} m: it "
+            f"{effects[key]}; set it to at most {suggestion} (half that half-width)"
+            + "".join(f", and {text}" for text in also),
+        )
+
+
+def _round_down(x: float) -> float:
+    """``x`` rounded down to 3 significant digits (a suggested limit that is not above it)."""
+    exact = Decimal(x)
+    return float(exact.quantize(Decimal(1).scaleb(exact.adjusted() - 2), rounding=ROUND_FLOOR))
 
 
 def check_finite_scales(scene: Scene) -> None:

@@ -348,6 +348,12 @@ SCENE_CASES: list[Case] = [
          scene_text(shape=GRAIN, position="[0.0, 0.01]"),
          ("[scene]: field 'contact_tolerance'", "0.0001 m (the default) is too large for "
           "body 'disc' (#2)", "set it to at most")),
+    Case("tolerances", "a body too small for any tolerance", "radius = 1e-50",
+         scene_text(shape='{ type = "disc", radius = 1e-50 }', position="[0.0, 0.01]"),
+         ("body 'disc' (#2): field 'shape'", "is below 2e-50 m, the smallest moving body")),
+    Case("tolerances", "both defaults too large", "radius = 1e-9",
+         scene_text(shape='{ type = "disc", radius = 1e-9 }', position="[0.0, 0.01]"),
+         ("set it to at most 4.99e-10 m", "and overlap_tolerance (1e-09 m) too")),
     Case("tolerances", "overlap tolerance as large as a body", "overlap_tolerance = 0.05",
          scene_text(scene="overlap_tolerance = 0.05"),
          ("[scene]: field 'overlap_tolerance'", "would let bodies start that deep inside")),

@@ -694,3 +694,43 @@ def test_stabilisation_flag_in_the_file_is_carried_by_the_scene(tmp_path, flag):
     scene = load_scene(write(tmp_path, disc_toml(), header=header))
     assert scene.simulation.stabilisation is flag
     assert load_scene(write(tmp_path, disc_toml())).simulation.stabilisation is False
+
+
+# -- tolerances against tiny bodies (issue #13: a suggested tolerance the loader refused) ----
+
+
+def _tiny(kind: str, size: float) -> dict:
+    shape = {
+        "disc": {"type": "disc", "radius": size},
+        "ellipse": {"type": "ellipse", "a": 3 * size, "b": size},
+        "rounded_rect": {"type": "rounded_rect", "width": 2 * size, "height": 2.2 * size,
+                         "corner_radius": 0.3 * size},
+        "polygon": {"type": "polygon", "points": [[0, 0], [2 * size, 0], [0, 2 * size]]},
+    }[kind]  # fmt: skip
+    return {"name": "grain", "shape": shape, "density": 1.0, "position": [0.0, 0.0]}
+
+
+@pytest.mark.parametrize("kind", ["disc", "ellipse", "rounded_rect", "polygon"])
+def test_the_suggested_tolerance_is_one_the_loader_accepts(kind):
+    """Down to the smallest body: following the message (both tolerances at the suggested
+    value) loads; below that, the body itself is refused with the smallest size stated."""
+    import re
+
+    for size in np.geomspace(1e-50, 1e-4, 37):
+        try:
+            scene_from_dict({"body": [_tiny(kind, float(size))]})
+            continue  # the defaults fit
+        except SceneError as exc:
+            message = str(exc)
+        found = re.search(r"set it to at most (\S+) m", message)
+        if found is None:
+            assert message.startswith("<dict>: body 'grain' (#1): field 'shape': half-width "), (
+                message
+            )
+            assert "is below 2e-50 m, the smallest moving body" in message, message
+            continue
+        assert ", and overlap_tolerance" in message or float(size) > 1e-9
+        value = float(found[1])
+        tolerances = {"contact_tolerance": value, "overlap_tolerance": value}
+        scene = scene_from_dict({"scene": tolerances, "body": [_tiny(kind, float(size))]})
+        assert scene.contact_tolerance == value

@@ -26,6 +26,9 @@ MAX_AXIS_RATIO = 1e6  # relative: the most slender ellipse, long / short semi-ax
 MAX_ANGLE = 2.0**49  # rad (5.6e14): the largest body angle read. From 2^49 on, doubles are
 # 0.125 rad (7 degrees) apart, so the angle written is not the angle read; below it, the loader
 # reduces the angle to (-pi, pi] exactly (atan2 of its sin and cos)
+BACK_FACE_REACH = 1.0  # relative to a moving body's bounding diameter: a body whose bounding
+# circle is closer than this behind a fixed wall's, bowl's or box's back face, level with it, is
+# refused at load (a wall drawn the wrong way round); farther behind, it may be meant to be there
 SCENE_FILE_MAX_BYTES = 10 * 2**20  # bytes (10 MiB): the largest scene file read. A scene of
 # 10,000 bodies is ~1.5 MB; the cap stops /dev/zero-like inputs or a results file given by mistake
 # from filling memory (tomllib holds the text and the parsed tables at once)

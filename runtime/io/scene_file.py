@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from runtime.io.scene_checks import check_finite_scales, check_overlaps, check_tolerances
+from runtime.io.scene_facing import check_facing
 from runtime.io.scene_validation import (
     SCENE_KEYS,
     SIMULATION_KEYS,
@@ -143,5 +144,6 @@ def scene_from_dict(
     )
     check_tolerances(scene, scene_table)
     check_finite_scales(scene)
+    check_facing(scene)
     check_overlaps(scene)
     return scene

@@ -343,6 +343,32 @@ SCENE_CASES: list[Case] = [
          scene_text(more=_moving("pebble", '{ type = "disc", radius = 0.02 }', "[0.0, 0.5]")),
          ("body 'disc' (#2) and body 'pebble' (#3)", "overlap by at least",
           "lies inside")),
+    # one-sided walls, bowls and boxes with a body at their back
+    Case("facing", "floor drawn right to left", "start = [2, 0], end = [-2, 0], disc on it",
+         scene_text(position="[0.0, 0.1]").replace("start = [-2.0, 0.0], end = [2.0, 0.0]",
+                                                   "start = [2.0, 0.0], end = [-2.0, 0.0]"),
+         ("body 'floor' (#1): field 'shape': body 'disc' (#2) is at the back of this wall (its "
+          "centre 0.1 m behind it)", "swap start and end to make it face 'disc'")),
+    Case("facing", "disc under a bowl", "a bowl of radius 1 centred at y = 1.7, the disc 0.2 m below it",
+         scene_text(more='''
+             [[body]]
+             name = "bowl"
+             fixed = true
+             position = [0.0, 1.7]
+             shape = { type = "bowl", radius = 1.0, start_angle = -2.5, end_angle = -0.6 }
+             '''),
+         ("body 'bowl' (#3): field 'shape': body 'disc' (#2) is outside this bowl",
+          "a bowl holds bodies inside its circle")),
+    Case("facing", "disc under a box", "box_walls at y = 0.6, the disc below its floor",
+         scene_text(more='''
+             [[body]]
+             name = "box"
+             fixed = true
+             position = [0.0, 0.6]
+             shape = { type = "box_walls", width = 1.0, height = 0.5 }
+             '''),
+         ("body 'box' (#3): field 'shape': body 'disc' (#2) is outside this box (its centre "
+          "0.1 m behind its floor): box walls face inwards",)),
     # tolerances against the bodies' size
     Case("tolerances", "default contact tolerance, 0.1 mm grain", "radius = 1e-4",
          scene_text(shape=GRAIN, position="[0.0, 0.01]"),

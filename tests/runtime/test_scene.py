@@ -734,3 +734,97 @@ def test_the_suggested_tolerance_is_one_the_loader_accepts(kind):
         tolerances = {"contact_tolerance": value, "overlap_tolerance": value}
         scene = scene_from_dict({"scene": tolerances, "body": [_tiny(kind, float(size))]})
         assert scene.contact_tolerance == value
+
+
+# -- bodies behind the back face of a wall, bowl or box (issue #14: "swap start and end") ---
+
+
+def _wall(start, end, name: str = "wall", **extra) -> dict:
+    shape = {"type": "wall", "start": [float(v) for v in start], "end": [float(v) for v in end]}
+    return {"name": name, "fixed": True, "shape": shape, **extra}
+
+
+def test_a_body_behind_a_turned_wall_is_refused_exactly_where_it_is_level_and_near():
+    """Reference, in the wall's own frame (x along start -> end, y to its front, the left):
+    refused iff 0 <= x <= L and -3 r < y < 0 (its bounding circle within its diameter of the
+    back face), with the depth -y in the message; checked for discs on a grid around walls
+    turned and placed at random."""
+    import re
+
+    rng = np.random.default_rng(14)
+    r, length = 0.1, 2.0
+    for _ in range(6):
+        th, origin = rng.uniform(-math.pi, math.pi), rng.uniform(-5, 5, 2)
+        along, left = (
+            np.array([math.cos(th), math.sin(th)]),
+            np.array([-math.sin(th), math.cos(th)]),
+        )
+        # a wall's material is on the right of start -> end: its front is to the left
+        wall = _wall(origin, origin + length * along)
+        for x in (-0.15, -0.05, 0.01, 0.7, 1.99, 2.05):  # not at the ends: rounding
+            for y in (-0.6, -0.31, -0.29, -0.2, -0.05, 0.1, 0.5):
+                body = disc_body(position=origin + x * along + y * left)
+                refused = 0 <= x <= length and -3 * r < y < 0
+                try:
+                    scene_from_dict({"scene": {"gravity": [0.0, 0.0]}, "body": [wall, body]})
+                    assert not refused, (th, x, y)
+                except SceneError as exc:
+                    message = str(exc)
+                    if not refused:  # only a genuine overlap may refuse it otherwise
+                        assert "overlap" in message and -r < y < r, (th, x, y, message)
+                        continue
+                    assert message.startswith("<dict>: body 'wall' (#1): field 'shape': body "
+                                              "'disc' (#2) is at the back of this wall"), message  # fmt: skip
+                    depth = float(re.search(r"its centre (\S+) m behind it", message)[1])
+                    assert depth == pytest.approx(-y, rel=1e-3)
+                    assert "swap start and end to make it face 'disc'" in message
+
+
+def test_a_plate_of_two_walls_back_to_back_shields_the_body_resting_on_it():
+    """A body on the top face is behind the bottom face's back, but the top face lies between:
+    not refused. Without the top face it is."""
+    top, bottom = _wall((-1, 0), (1, 0), "top"), _wall((1, -0.02), (-1, -0.02), "bottom")
+    scene = scene_from_dict({"body": [top, bottom, disc_body(position=(0.0, 0.1))]})
+    assert min(c.gap for c in scene.find_contacts()) == pytest.approx(0.0, abs=1e-15)
+    with pytest.raises(SceneError, match="body 'bottom' .* is at the back of this wall"):
+        scene_from_dict({"body": [bottom, disc_body(position=(0.0, 0.1))]})
+
+
+@pytest.mark.parametrize(
+    ("fixed", "position", "message"),
+    [
+        (
+            {"type": "bowl", "radius": 1.0, "start_angle": -2.5, "end_angle": -0.6},
+            (0.0, -1.1),
+            "body 'disc' (#2) is outside this bowl (its centre 0.1 m behind its arc), at its "
+            "back: a bowl holds bodies inside its circle (radius 1 m); move 'disc' inside, or "
+            "use a fixed disc for a surface to rest on from outside",
+        ),
+        (
+            {"type": "box_walls", "width": 1.0, "height": 0.5},
+            (0.0, -0.15),
+            "body 'disc' (#2) is outside this box (its centre 0.15 m behind its floor): box "
+            "walls face inwards; move 'disc' inside, or use walls facing it",
+        ),
+        (
+            {"type": "box_walls", "width": 1.0, "height": 0.5},
+            (0.65, 0.25),
+            "body 'disc' (#2) is outside this box (its centre 0.15 m behind its right side): "
+            "box walls face inwards; move 'disc' inside, or use walls facing it",
+        ),
+    ],
+    ids=["under a bowl", "under a box", "beside a box"],
+)
+def test_a_body_at_the_back_of_a_bowl_or_box_gets_the_fix_for_it(fixed, position, message):
+    bodies = [{"name": "c", "fixed": True, "shape": fixed}, disc_body(position=position)]
+    with pytest.raises(SceneError) as err:
+        scene_from_dict({"body": bodies})
+    assert str(err.value) == f"<dict>: body 'c' (#1): field 'shape': {message}"
+    inside = (0.0, -0.9) if fixed["type"] == "bowl" else (0.0, 0.1)
+    scene_from_dict({"body": [bodies[0], disc_body(position=inside)]})  # in front: loads
+
+
+def test_a_wall_turned_by_its_body_angle_faces_the_other_way():
+    floor = _wall((-2, 0), (2, 0), "floor", angle=math.pi)
+    with pytest.raises(SceneError, match="body 'floor' .* is at the back of this wall"):
+        scene_from_dict({"body": [floor, disc_body(position=(0.0, 0.1))]})

@@ -13,7 +13,7 @@ import numpy as np
 
 from runtime.collide import narrowphase as _narrowphase
 from runtime.io.scene_overlap import deepest_overlap
-from runtime.io.scene_validation import Table, body_label
+from runtime.io.scene_table import Table, body_label
 from runtime.model.scene import Scene
 from runtime.settings import SMALLEST, TOLERANCE_FRACTION
 

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from runtime.collide.contacts import candidate_pairs
-from runtime.io.scene_validation import Table, body_label
+from runtime.io.scene_table import Table, body_label
 from runtime.model.scene import Scene
 from runtime.model.shapes import Arc, Segment
 from runtime.settings import BACK_FACE_REACH

@@ -18,20 +18,18 @@ from typing import Any
 
 from runtime.io.scene_checks import check_finite_scales, check_overlaps, check_tolerances
 from runtime.io.scene_facing import check_facing
+from runtime.io.scene_table import SceneError, SceneWarning, Table, body_label
 from runtime.io.scene_validation import (
     SCENE_KEYS,
     SIMULATION_KEYS,
     TOP_LEVEL_KEYS,
-    SceneError,
-    Table,
-    body_label,
     read_bodies,
     read_simulation,
 )
 from runtime.model.scene import Body, Scene, SimulationDefaults
 from runtime.settings import SCENE_FILE_MAX_BYTES
 
-__all__ = ["SceneError", "load_scene", "scene_from_dict"]
+__all__ = ["SceneError", "SceneWarning", "load_scene", "scene_from_dict"]
 
 
 # -- reading ---------------------------------------------------------------------------------

@@ -608,7 +608,7 @@ def test_angle_at_the_precision_limit_is_refused_naming_the_field():
 
 
 def test_an_angle_that_looks_like_degrees_warns_once_from_the_callers_line():
-    from runtime.io.scene_validation import SceneWarning
+    from runtime.io.scene_file import SceneWarning
 
     with pytest.warns(SceneWarning) as caught:
         scene_from_dict({"body": [disc_body(angle=90)]})

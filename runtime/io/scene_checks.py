@@ -82,28 +82,31 @@ def check_finite_scales(scene: Scene) -> None:
     height = max(y + r for y, r in zip(ys, radii, strict=True)) - min(
         y - r for y, r in zip(ys, radii, strict=True)
     )
-    totals = dict.fromkeys(("kinetic energy", "potential energy", "momentum"), 0.0)
+    totals: dict[str, float] = {}
     for k, body in enumerate(scene.bodies):
         if body.fixed:
             continue
         m, inertia, (x, y), (vx, vy), w = (body.mass, body.inertia, body.position,
                                            body.velocity, body.angular_velocity)  # fmt: skip
-        mass = f"mass {m:g} kg"
-        terms = (
-            ("velocity", "momentum", m * math.hypot(vx, vy), f"{mass}, speed {math.hypot(vx, vy):g} m/s"),
-            ("angular_velocity", "angular momentum", inertia * abs(w), f"inertia {inertia:g} kg m^2"),
-            ("velocity", "kinetic energy", 0.5 * m * (vx * vx + vy * vy) + 0.5 * inertia * w * w, mass),
-            ("position", "potential energy", -m * (gx * x + gy * y), f"{mass} at ({x:g}, {y:g}) m"),
-            ("position", "share of the energy scale, m |g| (H + 2 r),", m * g * (height + 2 * radii[k]),
-             f"{mass}, H = {height:g} m the height the scene spans"),
+        mass, speed = f"mass {m:g} kg", math.hypot(vx, vy)
+        terms = (  # field, what, its total's name (None: not summed), value, detail
+            ("velocity", "its momentum", "momentum", m * speed, f"{mass}, speed {speed:g} m/s"),
+            ("angular_velocity", "its angular momentum", None, inertia * abs(w),
+             f"inertia {inertia:g} kg m^2"),
+            ("velocity", "its kinetic energy", "kinetic energy",
+             0.5 * m * speed * speed + 0.5 * inertia * w * w, mass),
+            ("position", "its potential energy", "potential energy", -m * (gx * x + gy * y),
+             f"{mass} at ({x:g}, {y:g}) m"),
+            ("position", "its share of the energy scale, m |g| (H + 2 r),", "energy scale",
+             m * g * (height + 2 * radii[k]), f"{mass}, H = {height:g} m the height the scene spans"),
         )  # fmt: skip
-        for field, what, value, detail in terms:
+        for field, what, total, value, detail in terms:
             if not math.isfinite(value):
-                _not_finite(scene, k, field, f"its {what}", detail)
-            if what in totals:
-                totals[what] += abs(value)
-                if not math.isfinite(totals[what]):
-                    _not_finite(scene, k, field, f"the scene's total {what}", "with this body")
+                _not_finite(scene, k, field, what, detail)
+            if total is not None:
+                totals[total] = totals.get(total, 0.0) + abs(value)
+                if not math.isfinite(totals[total]):
+                    _not_finite(scene, k, field, f"the scene's total {total}", "with this body")
 
 
 def _not_finite(scene: Scene, k: int, field: str, what: str, detail: str) -> None:

@@ -13,6 +13,29 @@ user can change per run (simulate(resting_speed=...)).
 
 from __future__ import annotations
 
+# -- scene input (runtime/io, and the shape constructors of runtime/model) --------------------
+
+LARGEST = 1e50  # m, m/s, rad, s: the largest magnitude of a number read from a scene (but masses,
+# densities and inertias, whose products are checked instead): beyond it squares and fourth powers
+# (areas, second moments, kinetic energies, squared distances) overflow float64
+SMALLEST = 1e-50  # same units: the smallest positive one (its fourth power, 1e-200, still a normal
+# double); below it those powers underflow and shape checks report nonsense
+TOLERANCE_FRACTION = 0.5  # relative to the half-width of the thinnest moving body: the largest
+# contact or overlap tolerance, so a resting contact is never held visibly open
+MAX_AXIS_RATIO = 1e6  # relative: the most slender ellipse, long / short semi-axis. The radius of
+# curvature at the ends of the long axis is short^2 / long = long / ratio^2: at 1e6 it is 1e-12 of
+# the long axis, still ~4500 spacings of the doubles that place those points (2.2e-16 x long);
+# near 6.7e7 it is below one spacing and contact geometry there is rounding noise
+MAX_ANGLE = 2.0**49  # rad (5.6e14): the largest body angle read. From 2^49 on, doubles are
+# 0.125 rad (7 degrees) apart, so the angle written is not the angle read; below it, the loader
+# reduces the angle to (-pi, pi] exactly (atan2 of its sin and cos)
+BACK_FACE_REACH = 1.0  # relative to a moving body's bounding diameter: a body whose bounding
+# circle is closer than this behind a fixed wall's, bowl's or box's back face, level with it, is
+# refused at load (a wall drawn the wrong way round); farther behind, it may be meant to be there
+SCENE_FILE_MAX_BYTES = 10 * 2**20  # bytes (10 MiB): the largest scene file read. A scene of
+# 10,000 bodies is ~1.5 MB; the cap stops /dev/zero-like inputs or a results file given by mistake
+# from filling memory (tomllib holds the text and the parsed tables at once)
+
 # -- geometry and the narrow phase -------------------------------------------------------------
 
 SPAN_EPS = 1e-9  # rad, and relative length: arc spans and segment ends are closed by this much,

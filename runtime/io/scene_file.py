@@ -6,31 +6,30 @@ docs/scene-format.md), so that a typo never surfaces later as a NaN or a NumPy w
 
 from __future__ import annotations
 
-import math
+import codecs
+import errno
+import os
 import re
+import stat
 import tomllib
-import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from runtime.collide import narrowphase as _narrowphase
-from runtime.io.scene_overlap import deepest_overlap
+from runtime.io.scene_checks import check_finite_scales, check_overlaps, check_tolerances
+from runtime.io.scene_facing import check_facing
+from runtime.io.scene_table import SceneError, SceneWarning, Table, body_label
 from runtime.io.scene_validation import (
     SCENE_KEYS,
     SIMULATION_KEYS,
     TOP_LEVEL_KEYS,
-    SceneError,
-    Table,
-    body_label,
     read_bodies,
     read_simulation,
 )
 from runtime.model.scene import Body, Scene, SimulationDefaults
+from runtime.settings import SCENE_FILE_MAX_BYTES
 
-__all__ = ["SceneError", "load_scene", "scene_from_dict"]
+__all__ = ["SceneError", "SceneWarning", "load_scene", "scene_from_dict"]
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -39,16 +38,61 @@ __all__ = ["SceneError", "load_scene", "scene_from_dict"]
 def load_scene(path: str | Path) -> Scene:
     """Read a scene file (TOML, format in docs/scene-format.md); raise SceneError if invalid."""
     source = str(path)
+    data = _parse_toml(_read_text(path, source), source)
+    return scene_from_dict(data, source=source, default_name=Path(path).stem)
+
+
+def _read_text(path: str | Path, source: str) -> str:
+    """The file's text: a regular file of at most SCENE_FILE_MAX_BYTES, UTF-8 with or without a
+    byte-order mark.  It is opened without blocking and checked before reading, so a FIFO, a
+    device such as /dev/zero or a directory is refused instead of hanging or filling memory."""
     try:
-        text = Path(path).read_bytes().decode("utf-8")
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except FileNotFoundError:
-        raise SceneError(f"{source}: file not found") from None
-    except UnicodeDecodeError as exc:
-        raise SceneError(f"{source}: not UTF-8 text (byte {exc.start})") from None
+        dangling = " (a symbolic link to a missing file)" if os.path.islink(path) else ""
+        raise SceneError(f"{source}: file not found{dangling}") from None
+    except OSError as exc:
+        reason = "a loop of symbolic links" if exc.errno == errno.ELOOP else exc.strerror or exc
+        raise SceneError(f"{source}: cannot read the file: {reason}") from None
+    try:
+        mode = os.fstat(fd).st_mode
+        chunks, size = [], 0
+        while (
+            stat.S_ISREG(mode) and size <= SCENE_FILE_MAX_BYTES and (chunk := os.read(fd, 1 << 20))
+        ):
+            chunks.append(chunk)
+            size += len(chunk)
     except OSError as exc:
         raise SceneError(f"{source}: cannot read the file: {exc.strerror or exc}") from None
+    finally:
+        os.close(fd)
+    if not stat.S_ISREG(mode):
+        raise SceneError(
+            f"{source}: cannot read the file: {_file_kind(mode)}, not a regular file"
+        ) from None
+    if size > SCENE_FILE_MAX_BYTES:
+        limit = SCENE_FILE_MAX_BYTES / 2**20
+        raise SceneError(
+            f"{source}: cannot read the file: larger than {limit:g} MiB, the limit of a scene file"
+        ) from None
+    data = b"".join(chunks)
+    bom = len(codecs.BOM_UTF8) if data.startswith(codecs.BOM_UTF8) else 0
     try:
-        data = tomllib.loads(text)
+        return data[bom:].decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{source}: not UTF-8 text (byte {exc.start + bom})") from None
+
+
+def _file_kind(mode: int) -> str:
+    kinds = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+             (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+             (stat.S_ISSOCK, "a socket"))  # fmt: skip
+    return next((name for test, name in kinds if test(mode)), "not a file")
+
+
+def _parse_toml(text: str, source: str) -> dict[str, Any]:
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         message = str(exc)
         match = re.fullmatch(r"(.*) \(at line (\d+), column (\d+)\)", message, re.S)
@@ -57,7 +101,10 @@ def load_scene(path: str | Path) -> Scene:
         else:
             message = f"TOML syntax error: {message}"
         raise SceneError(f"{source}: {message}") from None
-    return scene_from_dict(data, source=source, default_name=Path(path).stem)
+    except RecursionError:  # tomllib recurses once per level of arrays or inline tables
+        raise SceneError(
+            f"{source}: TOML nested too deeply: arrays or inline tables hundreds of levels deep"
+        ) from None
 
 
 def scene_from_dict(
@@ -84,7 +131,7 @@ def scene_from_dict(
             key = "inertia" if "inertia" in str(exc) else "mass"
             Table({}, source, body_label(index, spec["name"])).fail(key, str(exc))
     scene = Scene(
-        name=scene_table.string("name", default_name),
+        name=scene_table.name("name", default_name),
         description=scene_table.string("description", ""),
         bodies=bodies,
         gravity=scene_table.vector("gravity", (0.0, -9.81)),
@@ -93,70 +140,8 @@ def scene_from_dict(
         simulation=simulation,
         source=source,
     )
-    _check_tolerances(scene, scene_table)
-    _check_overlaps(scene)
+    check_tolerances(scene, scene_table)
+    check_finite_scales(scene)
+    check_facing(scene)
+    check_overlaps(scene)
     return scene
-
-
-# A tolerance may be at most this fraction of the half-width of the thinnest moving body.
-TOLERANCE_FRACTION = 0.5
-
-
-def _check_tolerances(scene: Scene, table: Table) -> None:
-    """The contact and overlap tolerances are absolute lengths (defaults 1e-4 m and 1e-9 m):
-    against a small body they stop being small.  A contact tolerance near a body's size holds
-    resting bodies visibly apart (a resting contact is kept up to that gap), and an overlap
-    tolerance near it lets overlapping bodies start; both are refused, naming the body."""
-    moving = [(k, b) for k, b in enumerate(scene.bodies) if not b.fixed]
-    if not moving:
-        return
-    widths = [(float(_narrowphase.table(b.shape).half_width), k) for k, b in moving]
-    half, k = min(widths)
-    limit = TOLERANCE_FRACTION * half
-    label = body_label(k, scene.bodies[k].name)
-    for key, value, effect in (
-        ("contact_tolerance", scene.contact_tolerance, "would hold resting bodies that far apart"),
-        (
-            "overlap_tolerance",
-            scene.overlap_tolerance,
-            "would let bodies start that deep inside each other",
-        ),  # fmt: skip
-    ):
-        if value > limit:
-            given = "" if table.has(key) else " (the default)"
-            table.fail(
-                key,
-                f"{value:g} m{given} is too large for {label}, half-width {half:.6g} m: it "
-                f"{effect}; set it to at most {limit:.3g} m (half that half-width)",
-            )
-
-
-def _check_overlaps(scene: Scene) -> None:
-    """Refuse bodies that overlap at t = 0 by more than ``scene.overlap_tolerance``: first the
-    contacts the engine would see, then deep overlaps that the contact finder leaves out."""
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        found = scene.find_contacts()
-        deep = deepest_overlap(scene.shapes, scene.poses(), scene.fixed, scene.overlap_tolerance)
-    for contact in found:
-        gap = float(contact.gap)
-        if gap < -scene.overlap_tolerance or not math.isfinite(gap):
-            amount = f"by {-gap:.6g} m" if math.isfinite(gap) else "(coincident features)"
-            detail = f"{contact.case} contact at {_point(contact.point)}"
-            _overlap_error(scene, int(contact.body1), int(contact.body2), amount, detail)
-    if deep is not None:
-        i, j, depth, point = deep
-        names = scene.bodies[i].name, scene.bodies[j].name
-        detail = f"the point {_point(point)} of {names[0]!r} lies inside {names[1]!r}"
-        _overlap_error(scene, i, j, f"by at least {depth:.6g} m", detail)
-
-
-def _point(p: Sequence[float]) -> str:
-    return f"({float(p[0]):.6g}, {float(p[1]):.6g})"
-
-
-def _overlap_error(scene: Scene, i: int, j: int, amount: str, detail: str) -> None:
-    where = " and ".join(body_label(k, scene.bodies[k].name) for k in sorted((i, j)))
-    moving = j if scene.bodies[i].fixed else i
-    message = f"overlap {amount} at t = 0 ({detail}); move {scene.bodies[moving].name!r} away"
-    Table({}, scene.source, where).fail("position", message)

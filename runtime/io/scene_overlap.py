@@ -5,7 +5,8 @@ for a simulation step, e.g. no deeper than half the thinner body, so a disc plac
 centre on a floor, or inside another body, yields no contact at all.  A scene file with such a
 mistake must still be refused, so this module samples each body's boundary (corners, points
 along every edge, and the centroid) and asks whether a sample lies inside the material of
-another body: inside a closed shape (exact winding number over segments and arcs), or behind
+another body, and how deep (its exact distance from the boundary, also for an ellipse:
+runtime/model/ellipse_distance.py): inside a closed shape (exact winding number), or behind
 a fixed wall, bowl or box while the body also reaches in front of it (a body entirely behind a
 one-sided wall is not in contact with it).
 """
@@ -18,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from runtime.collide.contacts import candidate_pairs
+from runtime.model.ellipse_distance import ellipse_distance
 from runtime.model.shapes import TAU, Arc, Ellipse, Segment
 
 __all__ = ["deepest_overlap"]
@@ -83,9 +85,8 @@ def _edge_distance(e: Any, p: np.ndarray) -> np.ndarray:
         a, b = np.asarray(e.start), np.asarray(e.end)
         t = np.clip((p - a) @ (b - a) / float((b - a) @ (b - a)), 0.0, 1.0)
         return np.hypot(*(p - a - np.outer(t, b - a)).T)
-    if isinstance(e, Ellipse):
-        ring = np.array([e.point(t) for t in np.linspace(0, TAU, 1024, endpoint=False)])
-        return np.min(np.hypot(*(p[:, None, :] - ring[None]).transpose(2, 0, 1)), axis=1)
+    if isinstance(e, Ellipse):  # exact: a sampled ring overstated it by half its spacing
+        return ellipse_distance(e.a, e.b, _local(p, np.array([*e.centre, e.angle])))
     v = p - np.asarray(e.centre)
     on_span = np.array([e.contains_angle(a) for a in np.arctan2(v[:, 1], v[:, 0])], dtype=bool)
     ends = [np.hypot(*(p - np.asarray(q)).T) for q in e.end_points]

@@ -1,24 +1,39 @@
 """Checked reading of scene input (TOML tables or plain dicts) into plain Python values.
 
 Scene files are written by hand, so every mistake must come back as one sentence that says
-where it is: the file, the body (name and 1-based position among the ``[[body]]`` tables) and
-the field.  This module does the type and range checks, builds each body's shape (wrapping the
-shapes module's ValueError with that context) and produces the messages; runtime/scene.py
-turns the checked values into bodies and checks overlaps.
+where it is (runtime/io/scene_table.py reads typed values with that context).  This module
+knows the tables and keys of a scene, builds each body's shape (wrapping the shape library's
+ValueError with the field), checks angles and mass properties; runtime/io/scene_file.py turns
+the checked values into bodies and runs the whole-scene checks.
 """
 
 from __future__ import annotations
 
-import difflib
 import math
-import numbers
 import re
-from collections.abc import Mapping, Sequence
-from typing import Any, NoReturn
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
-from runtime.model import shapes as _shapes
+from runtime.io.scene_hints import (
+    closest,
+    degrees_hint,
+    looks_like_degrees,
+    unknown_type_hint,
+)
+from runtime.io.scene_table import (
+    REQUIRED,
+    SceneError,
+    SceneWarning,
+    Table,
+    body_label,
+    describe,
+    is_sequence,
+    unprintable,
+)
+from runtime.model import shape_library
+from runtime.settings import MAX_ANGLE
 from runtime.step.integrators import METHODS
 
 __all__ = [
@@ -30,6 +45,7 @@ __all__ = [
     "SIMULATION_KEYS",
     "TOP_LEVEL_KEYS",
     "SceneError",
+    "SceneWarning",
     "Table",
     "body_label",
     "read_bodies",
@@ -37,19 +53,6 @@ __all__ = [
     "read_shape_spec",
     "read_simulation",
 ]
-
-
-class SceneError(ValueError):
-    """Invalid scene input; the message names the file, the body and the field."""
-
-
-# Magnitudes: every number read (but masses, densities and inertias, whose products are checked
-# instead) lies within [-LARGEST, LARGEST], and a positive one is at least SMALLEST. Beyond
-# these, squares and fourth powers (areas, second moments, kinetic energies, squared distances)
-# over- or underflow double precision, and the shapes module's own checks (convexity, areas)
-# would report nonsense such as "collinear" for a huge triangle.
-LARGEST = 1e50
-SMALLEST = 1e-50
 
 
 TOP_LEVEL_KEYS = ("scene", "simulation", "body")
@@ -71,7 +74,7 @@ BODY_KEYS = (
 
 # Shape type -> its parameters and their kinds: "positive", "nonnegative", "finite" numbers,
 # "vector" [x, y], "points" [[x, y], ...] (all required) or "flag" (optional bool, default
-# false).  They are passed by keyword to the runtime.model.shapes constructor of the same name.
+# false).  They are passed by keyword to the shape_library constructor of the same name.
 SHAPE_PARAMETERS: dict[str, dict[str, str]] = {
     "disc": {"radius": "positive"},
     "polygon": {"points": "points"},
@@ -92,167 +95,6 @@ SHAPE_PARAMETERS: dict[str, dict[str, str]] = {
 FIXED_ONLY_SHAPES = ("wall", "bowl", "box_walls")
 
 
-def body_label(index: int, name: str | None = None) -> str:
-    """``body 'disc' (#2)`` for the body at 0-based ``index``; messages count from 1."""
-    if name is None:
-        return f"body #{index + 1}"
-    return f"body {name!r} (#{index + 1})"
-
-
-def _describe(value: Any) -> str:
-    """A short description of a bad value for an error message."""
-    if isinstance(value, str):
-        return f"the string {value!r}"
-    if isinstance(value, Mapping):
-        return "a table"
-    if isinstance(value, bool):
-        return f"the boolean {str(value).lower()}"
-    text = repr(value.tolist() if isinstance(value, np.ndarray) else value)
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _is_number(value: Any) -> bool:
-    return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
-
-
-def _is_sequence(value: Any) -> bool:
-    return isinstance(value, Sequence | np.ndarray) and not isinstance(value, str | bytes)
-
-
-def _suggest(key: str, valid: Sequence[str], what: str = "keys") -> str:
-    close = difflib.get_close_matches(key, valid, n=1, cutoff=0.6)
-    if close:
-        return f"did you mean {close[0]!r}?"
-    return f"valid {what}: " + ", ".join(repr(k) for k in valid)
-
-
-class Table:
-    """A mapping being read, with the context that error messages need.
-
-    ``where`` is the part of the message between the file and the field, e.g. ``[scene]`` or
-    ``body 'disc' (#2)``; ``prefix`` is prepended to field names (``shape.`` inside a shape).
-    """
-
-    def __init__(self, data: Any, source: str, where: str, prefix: str = "", field: str = ""):
-        self.source = source
-        self.where = where
-        self.prefix = ""  # the field of the table itself is named without the prefix
-        if not isinstance(data, Mapping):
-            self.fail(field, f"expected a table, got {_describe(data)}")
-        self.prefix = prefix
-        self.data: Mapping[str, Any] = data
-
-    # -- errors -------------------------------------------------------------------------
-    def fail(self, field: str, message: str) -> NoReturn:
-        parts = [self.source]
-        if self.where:
-            parts.append(self.where)
-        if field:
-            parts.append(f"field {self.prefix + field!r}")
-        parts.append(message)
-        raise SceneError(": ".join(parts)) from None  # one line, no chained traceback
-
-    def check_keys(self, valid: Sequence[str]) -> None:
-        """Reject keys that are not in ``valid``, suggesting the closest valid one."""
-        for key in self.data:
-            if key not in valid:
-                self.fail(str(key), f"unknown key; {_suggest(str(key), valid)}")
-
-    def has(self, key: str) -> bool:
-        return key in self.data
-
-    def _get(self, key: str, default: Any) -> Any:
-        if key in self.data:
-            return self.data[key]
-        if default is _REQUIRED:
-            self.fail(key, "missing required field")
-        return default
-
-    # -- typed readers ------------------------------------------------------------------
-    def number(
-        self, key: str, default: Any = None, *, check: str = "finite", bounded: bool = True
-    ) -> float:
-        """A finite float; ``check`` is "finite", "positive", "nonnegative" or "unit";
-        ``bounded``: also within [-LARGEST, LARGEST] and, if positive, at least SMALLEST."""
-        return self.check_number(key, self._get(key, default), check, bounded=bounded)
-
-    def check_number(
-        self, key: str, value: Any, check: str = "finite", *, bounded: bool = True
-    ) -> float:
-        if not _is_number(value):
-            self.fail(key, f"expected a number, got {_describe(value)}")
-        try:
-            x = float(value)
-        except OverflowError:  # a Python int beyond the float range
-            self.fail(key, f"must be finite, got {_describe(value)}")
-        if not math.isfinite(x):
-            self.fail(key, f"must be finite, got {x}")
-        if check == "positive" and not x > 0:
-            self.fail(key, f"must be > 0, got {x}")
-        if check == "nonnegative" and not x >= 0:
-            self.fail(key, f"must be >= 0, got {x}")
-        if check == "unit" and not 0 <= x <= 1:
-            self.fail(key, f"must be between 0 and 1, got {x}")
-        if bounded and abs(x) > LARGEST:
-            self.fail(key, f"must be at most {LARGEST:g} in magnitude, got {x:g}")
-        if bounded and check == "positive" and x < SMALLEST:
-            self.fail(key, f"must be at least {SMALLEST:g}, got {x:g}")
-        return x
-
-    def vector(self, key: str, default: Any = None) -> tuple[float, float]:
-        """A pair of finite floats ``[x, y]``."""
-        return self.check_vector(key, self._get(key, default))
-
-    def check_vector(self, key: str, value: Any) -> tuple[float, float]:
-        if not _is_sequence(value) or len(value) != 2:
-            self.fail(key, f"expected a list of 2 numbers [x, y], got {_describe(value)}")
-        x = self.check_number(f"{key}[0]", value[0])
-        y = self.check_number(f"{key}[1]", value[1])
-        return (x, y)
-
-    def points(self, key: str) -> list[tuple[float, float]]:
-        """A list of at least three ``[x, y]`` points."""
-        value = self._get(key, _REQUIRED)
-        if not _is_sequence(value) or len(value) < 3:
-            self.fail(
-                key, f"expected a list of at least 3 points [[x, y], ...], got {_describe(value)}"
-            )
-        points = [self.check_vector(f"{key}[{i}]", p) for i, p in enumerate(value)]
-        for i, p in enumerate(points):
-            if p in points[:i]:
-                j = points.index(p)
-                self.fail(f"{key}[{i}]", f"repeats point {j}, {list(p)}; corners must be distinct")
-        span = max(max(x for x, _ in points) - min(x for x, _ in points),
-                   max(y for _, y in points) - min(y for _, y in points))  # fmt: skip
-        if span < SMALLEST:
-            self.fail(key, f"the points span only {span:g}; they must span at least {SMALLEST:g}")
-        return points
-
-    def string(self, key: str, default: Any = None) -> str:
-        value = self._get(key, default)
-        if not isinstance(value, str) or (key in self.data and not value.strip()):
-            self.fail(key, f"expected a non-empty string, got {_describe(value)}")
-        return value
-
-    def boolean(self, key: str, default: Any = None) -> bool:
-        value = self._get(key, default)
-        if not isinstance(value, bool | np.bool_):
-            self.fail(key, f"expected true or false, got {_describe(value)}")
-        return bool(value)
-
-    def subtable(self, key: str, prefix: str = "") -> Table:
-        return Table(self._get(key, _REQUIRED), self.source, self.where, prefix, key)
-
-
-class _Required:
-    def __repr__(self) -> str:
-        return "REQUIRED"
-
-
-_REQUIRED: Any = _Required()
-REQUIRED: Any = _REQUIRED
-
-
 def read_shape_spec(body: Table, *, fixed: bool) -> tuple[str, dict[str, Any]]:
     """The ``shape`` table of a body: its type and checked constructor keyword arguments."""
     shape = body.subtable("shape", prefix="shape.")
@@ -260,7 +102,7 @@ def read_shape_spec(body: Table, *, fixed: bool) -> tuple[str, dict[str, Any]]:
     if kind not in SHAPE_PARAMETERS:
         shape.fail(
             "type",
-            f"unknown shape type {kind!r}; {_suggest(kind, list(SHAPE_PARAMETERS), 'types')}",
+            unknown_type_hint(kind, list(SHAPE_PARAMETERS)),
         )
     params = SHAPE_PARAMETERS[kind]
     shape.check_keys(("type", *params))
@@ -298,7 +140,7 @@ def read_simulation(data: Any, source: str, default_duration: float) -> dict[str
     if sim.has("method"):
         method = values["method"] = sim.string("method").lower()
         if method not in METHODS:
-            sim.fail("method", f"unknown method {method!r}; {_suggest(method, METHODS, 'methods')}")
+            sim.fail("method", f"unknown method {method!r}; {closest(method, METHODS, 'methods')}")
     if sim.has("stabilisation"):
         values["stabilisation"] = sim.boolean("stabilisation")
     return values
@@ -311,9 +153,9 @@ def read_bodies(top: Table) -> list[dict[str, Any]]:
         top.fail("body", "missing: a scene needs at least one [[body]] table")
     if isinstance(raw_bodies, Mapping):
         top.fail("body", "expected an array of tables: write [[body]], not [body]")
-    if not _is_sequence(raw_bodies) or len(raw_bodies) == 0:
+    if not is_sequence(raw_bodies) or len(raw_bodies) == 0:
         top.fail(
-            "body", f"expected a non-empty array of [[body]] tables, got {_describe(raw_bodies)}"
+            "body", f"expected a non-empty array of [[body]] tables, got {describe(raw_bodies)}"
         )
     specs: list[dict[str, Any]] = []
     for index, raw in enumerate(raw_bodies):
@@ -329,24 +171,29 @@ def read_bodies(top: Table) -> list[dict[str, Any]]:
 def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
     """One ``[[body]]`` table, checked, with its shape built (not yet centred)."""
     name = raw.get("name") if isinstance(raw, Mapping) else None
-    label = body_label(index, name if isinstance(name, str) and name.strip() else None)
+    printable = isinstance(name, str) and name.strip() and unprintable(name) is None
+    label = body_label(index, name if printable else None)
     table = Table(raw, source, label, field="")
     table.check_keys(BODY_KEYS)
-    name = table.string("name", f"body{index + 1}")
+    name = table.name("name", f"body{index + 1}")
     fixed = table.boolean("fixed", False)
     kind, kwargs = read_shape_spec(table, fixed=fixed)
+    degrees = [k for k in ("start_angle", "end_angle") if looks_like_degrees(kwargs.get(k, 0.0))]
     try:
-        shape = getattr(_shapes, kind)(**kwargs)
+        shape = getattr(shape_library, kind)(**kwargs)
     except ValueError as exc:
-        table.fail(_shape_field(str(exc), kwargs), str(exc))
+        hint = f"; {degrees_hint([kwargs[k] for k in degrees])}" if degrees else ""
+        table.fail(_shape_field(str(exc), kwargs), f"{exc}{hint}")
     except ArithmeticError as exc:  # e.g. OverflowError from math.* on extreme sizes
         table.fail("shape", f"{kind}: its size is out of range ({exc})")
+    for key in degrees:
+        table.warn(f"shape.{key}", degrees_hint([kwargs[key]]))
     spec: dict[str, Any] = {
         "name": name,
         "shape": shape,
         "fixed": fixed,
         "position": table.vector("position", (0.0, 0.0) if fixed else REQUIRED),
-        "angle": table.number("angle", 0.0),
+        "angle": _read_angle(table),
         "restitution": table.number("restitution", 0.0, check="unit"),
     }
     if fixed:
@@ -373,6 +220,26 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
     spec["angular_velocity"] = table.number("angular_velocity", 0.0)
     _check_mass_properties(table, spec, shape)
     return spec
+
+
+def _read_angle(table: Table) -> float:
+    """The body's angle, reduced to (-pi, pi] (the engine's sin and cos then see the angle
+    exactly; 1e12 rad used to give micrometres of unreported penetration); refused where
+    doubles are too far apart to say which angle was meant; a warning if it looks like
+    degrees."""
+    angle = table.number("angle", 0.0)
+    if abs(angle) >= MAX_ANGLE:
+        table.fail(
+            "angle",
+            f"must be below {MAX_ANGLE:.3g} rad in magnitude, got {angle:g}: doubles there are "
+            f"{math.ulp(angle):g} rad apart, so the angle meant is lost; give it modulo 2 pi",
+        )
+    if looks_like_degrees(angle):
+        table.warn("angle", degrees_hint([angle]))
+    if -math.pi < angle <= math.pi:
+        return angle
+    reduced = math.atan2(math.sin(angle), math.cos(angle))
+    return math.pi if reduced == -math.pi else reduced
 
 
 def _check_mass_properties(table: Table, spec: Mapping[str, Any], shape: Any) -> None:

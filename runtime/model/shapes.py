@@ -4,7 +4,8 @@ Why this module exists: the contact kernels (docs/conventions.md) need each body
 body coordinates -- vertices ``p``, straight edges ``(e, n)``, circular edges ``(c, r)`` with
 the signed-radius convention (concave = negative) -- and the engine needs the area, centroid
 and second moment of the region they bound, exactly, also for boundaries that mix segments and
-circular arcs.
+circular arcs.  The named shapes (``disc``, ``polygon``, ``wall``, ...) are built in
+runtime/model/shape_library.py and reachable from here.
 
 Orientation: a boundary is traversed with the body's material on the LEFT (counter-clockwise
 for a closed shape), so a segment's outward normal is the right-hand normal of ``end - start``.
@@ -367,162 +368,17 @@ def shape_from_edges(
     return Shape(edges, tuple(verts), closed)
 
 
-def _chain(points: list[Point], closed: bool) -> list[Segment]:
-    m = len(points)
-    return [Segment(points[i], points[(i + 1) % m]) for i in range(m if closed else m - 1)]
+# The named shapes (disc, polygon, wall, ...) live in runtime/model/shape_library.py; they are
+# reachable here too (``shapes.disc(0.1)``), loaded on first use to avoid an import cycle.
+_LIBRARY = (
+    "box_walls", "bowl", "d_shape", "disc", "ellipse", "half_disc", "polygon", "rounded_rect",
+    "segment_chain", "wall",
+)  # fmt: skip
 
 
-def polygon(points: Sequence[Sequence[float]]) -> Shape:
-    """Convex polygon from its corners (counter-clockwise or clockwise; normalised to
-    counter-clockwise).  Rejects repeated, collinear and reflex corners and self-intersection,
-    naming the offending vertex (index into ``points``)."""
-    try:
-        pts = [_point(f"points[{i}]", p, "polygon: ") for i, p in enumerate(points)]
-    except TypeError:
-        raise ValueError(f"polygon: points must be a sequence of (x, y), got {points!r}") from None
-    m = len(pts)
-    if m < 3:
-        raise ValueError(f"polygon: points needs at least 3 vertices, got {m}")
-    index = list(range(m))
-    twice_area = sum(pts[i - 1][0] * pts[i][1] - pts[i][0] * pts[i - 1][1] for i in range(m))
-    if twice_area < 0:  # reverse, keeping the first point first
-        pts, index = pts[:1] + pts[:0:-1], index[:1] + index[:0:-1]
-    scale = max(math.hypot(x - pts[0][0], y - pts[0][1]) for x, y in pts)
-    for i in range(m):
-        if math.hypot(pts[i][0] - pts[i - 1][0], pts[i][1] - pts[i - 1][1]) <= _JOIN * scale:
-            raise ValueError(f"polygon: points repeat at vertex {index[i]} {pts[i]}")
-    turning = 0.0
-    for i in range(m):
-        (ax, ay), (bx, by), (cx, cy) = pts[i - 1], pts[i], pts[(i + 1) % m]
-        where = f"vertex {index[i]} {pts[i]}"
-        cross = (bx - ax) * (cy - by) - (by - ay) * (cx - bx)
-        if cross <= _JOIN * scale * scale:
-            kind = "collinear" if abs(cross) <= _JOIN * scale * scale else "reflex (not convex)"
-            raise ValueError(f"polygon: points must be strictly convex; {where} is {kind}")
-        turning += math.atan2(cross, (bx - ax) * (cx - bx) + (by - ay) * (cy - by))
-        if turning > TAU * (1 + 1e-9):
-            raise ValueError(f"polygon: points are self-intersecting (winding again at {where})")
-    return shape_from_edges(_chain(pts, True))
+def __getattr__(name: str):
+    if name in _LIBRARY:
+        from runtime.model import shape_library
 
-
-def disc(radius: float) -> Shape:
-    """Disc centred at the origin: one full convex arc, no vertices."""
-    r = _number("radius", radius, positive=True, where="disc: ")
-    return Shape((Arc((0.0, 0.0), r, 0.0, TAU),))
-
-
-def rounded_rect(width: float, height: float, corner_radius: float) -> Shape:
-    """Rectangle centred at the origin with quarter-circle corners (no vertices);
-    ``corner_radius = 0`` gives the plain rectangle (4 vertices)."""
-    w = _number("width", width, positive=True, where="rounded_rect: ")
-    h = _number("height", height, positive=True, where="rounded_rect: ")
-    r = _number("corner_radius", corner_radius, where="rounded_rect: ")
-    if not 0 <= r <= min(w, h) / 2:
-        raise ValueError(
-            f"rounded_rect: corner_radius must be in [0, min(width, height)/2 = {min(w, h) / 2!r}]"
-            f", got {r!r}"
-        )
-    hx, hy = w / 2, h / 2
-    if r == 0:
-        return polygon([(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)])
-    ax, ay, q = hx - r, hy - r, math.pi / 2
-    edges: list[Edge] = []
-    for k, ((sx, sy), (ex, ey)) in enumerate(
-        [
-            ((-ax, -hy), (ax, -hy)),
-            ((hx, -ay), (hx, ay)),
-            ((ax, hy), (-ax, hy)),
-            ((-hx, ay), (-hx, -ay)),
-        ]
-    ):
-        if (sx, sy) != (ex, ey):
-            edges.append(Segment((sx, sy), (ex, ey)))
-        centre = ((ax, -ay), (ax, ay), (-ax, ay), (-ax, -ay))[k]
-        edges.append(Arc(centre, r, (k - 1) * q, k * q))
-    return shape_from_edges(edges)
-
-
-def half_disc(radius: float) -> Shape:
-    """Upper half disc; the arc's centre is the origin, the flat side lies on y = 0; two
-    vertices at (+-radius, 0).  (Centroid at (0, 4 radius / (3 pi)).)"""
-    r = _number("radius", radius, positive=True, where="half_disc: ")
-    return shape_from_edges([Segment((-r, 0.0), (r, 0.0)), Arc((0.0, 0.0), r, 0.0, math.pi)])
-
-
-def d_shape(width: float, height: float) -> Shape:
-    """A "D": flat back on x = -(width - height/2) with straight top and bottom running into a
-    semicircular front of radius height/2 centred at the origin.  Vertices: the two back corners
-    (the straight sides join the arc tangentially).  ``width = height/2`` is a half disc."""
-    w = _number("width", width, positive=True, where="d_shape: ")
-    h = _number("height", height, positive=True, where="d_shape: ")
-    r = h / 2
-    if w < r:
-        raise ValueError(f"d_shape: width must be >= {r!r} (the front's radius), got {w!r}")
-    back = -(w - r)
-    edges: list[Edge] = [Arc((0.0, 0.0), r, -math.pi / 2, math.pi / 2)]
-    if back < 0:
-        edges.append(Segment((0.0, r), (back, r)))
-    edges.append(Segment((back, r), (back, -r)))
-    if back < 0:
-        edges.append(Segment((back, -r), (0.0, -r)))
-    return shape_from_edges(edges)
-
-
-def ellipse(a: float, b: float) -> Shape:
-    """Ellipse centred at the origin with semi-axes ``a`` (along x) and ``b`` (along y)."""
-    a = _number("a", a, positive=True, where="ellipse: ")
-    b = _number("b", b, positive=True, where="ellipse: ")
-    return Shape((Ellipse((0.0, 0.0), a, b),))
-
-
-def segment_chain(
-    points: Sequence[Sequence[float]], *, closed: bool = False, end_vertices: bool = False
-) -> Shape:
-    """Straight-edged chain through ``points`` with the material on the RIGHT when walking
-    from the first point to the last (a floor drawn left to right has material below)."""
-    pts = [_point(f"points[{i}]", p, "segment_chain: ") for i, p in enumerate(points)]
-    if len(pts) < 2:
-        raise ValueError(f"segment_chain: points needs at least 2 points, got {len(pts)}")
-    for i in range(1, len(pts)):
-        if pts[i] == pts[i - 1]:
-            raise ValueError(f"segment_chain: points[{i}] repeats points[{i - 1}] = {pts[i]}")
-    pts.reverse()
-    return shape_from_edges(_chain(pts, closed), closed=closed, end_vertices=end_vertices)
-
-
-def wall(start: Sequence[float], end: Sequence[float], *, end_vertices: bool = False) -> Shape:
-    """Fixed straight wall, material on the right of ``start -> end`` (a half-plane locally).
-    Its ends are vertices only with ``end_vertices`` (then bodies can tip over them)."""
-    s, e = _point("start", start, "wall: "), _point("end", end, "wall: ")
-    if s == e:
-        raise ValueError(f"wall: start and end must differ, both are {s}")
-    return segment_chain([s, e], end_vertices=end_vertices)
-
-
-def bowl(
-    radius: float, start_angle: float, end_angle: float, *, end_vertices: bool = False
-) -> Shape:
-    """Fixed concave arc (radius stored negative) centred at the origin covering the angles
-    ``start_angle -> end_angle`` counter-clockwise; bodies rest inside.  A full turn is a
-    closed circular container; otherwise the rim points are vertices only with
-    ``end_vertices``."""
-    r = _number("radius", radius, positive=True, where="bowl: ")
-    a0 = _number("start_angle", start_angle, where="bowl: ")
-    a1 = _number("end_angle", end_angle, where="bowl: ")
-    if not 0 < a1 - a0 <= TAU * (1 + 1e-12):
-        raise ValueError(
-            f"bowl: end_angle must exceed the start angle {a0!r} by at most 2 pi, got {a1!r}"
-        )
-    arc = Arc((0.0, 0.0), -r, a0, a1)
-    if arc.full:
-        return Shape((arc,), (), closed=False)
-    return shape_from_edges([arc], closed=False, end_vertices=end_vertices)
-
-
-def box_walls(width: float, height: float, *, end_vertices: bool = False) -> Shape:
-    """Fixed open-top container: floor on y = 0 from x = -width/2 to width/2 and two side
-    walls up to y = height, facing inwards (three segments, an open chain)."""
-    w = _number("width", width, positive=True, where="box_walls: ")
-    h = _number("height", height, positive=True, where="box_walls: ")
-    pts = [(-w / 2, h), (-w / 2, 0.0), (w / 2, 0.0), (w / 2, h)]
-    return segment_chain(pts, end_vertices=end_vertices)
+        return getattr(shape_library, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

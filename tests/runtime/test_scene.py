@@ -495,3 +495,336 @@ def test_scene_error_is_a_value_error_and_no_numpy_warning(tmp_path, recwarn):
 def test_scene_dataclass_direct_construction():
     scene = Scene("empty", [])
     assert scene.poses().shape == (0, 3) and scene.inverse_masses.shape == (0, 3)
+
+
+# -- ellipses placed exactly touching (issue #13: refused by up to 4.8 mm) ------------------
+
+
+def _turn(th: float, v) -> np.ndarray:
+    c, s = math.cos(th), math.sin(th)
+    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+def _support(a: float, b: float, th: float, u: np.ndarray) -> np.ndarray:
+    """The point of a centred ellipse turned by ``th`` farthest along ``u`` (where its outward
+    normal is ``u``): the reference for placing bodies against it, independent of the loader."""
+    local = _turn(-th, u)
+    t = math.atan2(b * local[1], a * local[0])
+    return _turn(th, (a * math.cos(t), b * math.sin(t)))
+
+
+def _ellipse(name: str, a: float, b: float, position, angle: float) -> dict:
+    return {"name": name, "shape": {"type": "ellipse", "a": a, "b": b}, "density": 1.0,
+            "position": [float(x) for x in position], "angle": angle}  # fmt: skip
+
+
+def _touching_pairs(rng) -> dict[str, tuple[list, np.ndarray]]:
+    """Bodies placed exactly touching a random ellipse (turned, 0.05..1.5 m axes), each with
+    the unit direction that moves the second body into the first."""
+    a, b = rng.uniform(0.05, 1.5, 2)
+    th = rng.uniform(-math.pi, math.pi)
+    phi = rng.uniform(-math.pi, math.pi)
+    n = np.array([math.cos(phi), math.sin(phi)])  # normal at the touch, out of the ellipse
+    a2, b2, th2, r = (
+        *rng.uniform(0.05, 1.5, 2),
+        rng.uniform(-math.pi, math.pi),
+        rng.uniform(0.01, 1),
+    )
+    tip = _support(a, b, th, n)
+    side = np.array(
+        [n[1], -n[0]]
+    )  # a wall from -5 side to 5 side faces n (material on the -n side)
+    corner = [[0.0, 0.0]] + [
+        [0.2 * math.cos(phi + d), 0.2 * math.sin(phi + d)] for d in (0.5, -0.5)
+    ]
+    low = _support(a, b, th, np.array([0.0, -1.0]))
+    return {
+        "ellipse": ([_ellipse("e1", a, b, (0, 0), th),
+                     _ellipse("e2", a2, b2, tip - _support(a2, b2, th2, -n), th2)], -n),
+        "disc": ([_ellipse("e", a, b, (0, 0), th), disc_body("d", r, tip + r * n)], -n),
+        "polygon corner": ([_ellipse("e", a, b, (0, 0), th),
+                            {"name": "p", "shape": {"type": "polygon", "points": corner},
+                             "density": 1.0, "position": list(tip)}], -n),
+        "floor": ([{"name": "floor", "fixed": True,
+                    "shape": {"type": "wall", "start": [-5.0, 0.0], "end": [5.0, 0.0]}},
+                   _ellipse("e", a, b, (0.3, -low[1]), th)], np.array([0.0, -1.0])),
+        "wall": ([{"name": "wall", "fixed": True,
+                   "shape": {"type": "wall", "start": list(-5 * side), "end": list(5 * side)}},
+                  _ellipse("e", a, b, -_support(a, b, th, -n), th)], -n),
+    }  # fmt: skip
+
+
+@pytest.mark.parametrize("pair", ["ellipse", "disc", "polygon corner", "floor", "wall"])
+def test_exact_touch_on_an_ellipse_loads_and_one_micrometre_inside_is_refused(pair):
+    rng = np.random.default_rng(9)
+    for _ in range(25):
+        bodies, into = _touching_pairs(rng)[pair]
+        scene = scene_from_dict({"scene": {"gravity": [0.0, 0.0]}, "body": bodies})
+        assert min((c.gap for c in scene.find_contacts()), default=0.0) > -1e-9
+        moved = [dict(body) for body in bodies]
+        moved[1]["position"] = list(np.asarray(bodies[1]["position"]) + 1e-6 * into)
+        with pytest.raises(SceneError, match=r"overlap by (at least )?1e-06 m at t = 0"):
+            scene_from_dict({"scene": {"gravity": [0.0, 0.0]}, "body": moved})
+
+
+# -- angles: reduced at load, refused beyond precision, degrees warned (issue #13, #14) -----
+
+
+@pytest.mark.parametrize("angle", [4.0, -4.0, math.pi, -math.pi, 7.5, -1e6, 1e12, 5e14])
+def test_body_angle_is_reduced_to_minus_pi_pi_exactly(angle):
+    """Reference: the angle modulo 2 pi in 50-digit arithmetic (mpmath), folded into
+    (-pi, pi]; the centre of mass of an off-centre shape follows the same turn."""
+    mpmath = pytest.importorskip("mpmath")
+    with mpmath.workdps(50):
+        exact = mpmath.mpf(angle) - 2 * mpmath.pi * mpmath.floor(
+            (mpmath.mpf(angle) + mpmath.pi) / (2 * mpmath.pi)
+        )  # in [-pi, pi)
+        exact = float(exact if exact > -mpmath.pi else exact + 2 * mpmath.pi)
+    half = {"name": "h", "shape": {"type": "half_disc", "radius": 0.5}, "density": 1.0,
+            "position": [1.0, 2.0], "angle": angle}  # fmt: skip
+    body = scene_from_dict({"body": [half]}).bodies[0]
+    assert -math.pi < body.angle <= math.pi
+    # equal as angles (-pi and pi are one angle; the float -pi lies just inside (-pi, pi])
+    assert abs(math.remainder(body.angle - exact, 2 * math.pi)) <= 4e-16
+    c = 4 * 0.5 / (3 * math.pi)  # the centroid above the arc's centre, turned by the angle
+    np.testing.assert_allclose(
+        body.position, [1.0 - c * math.sin(exact), 2.0 + c * math.cos(exact)], rtol=0, atol=1e-15
+    )
+
+
+def test_an_angle_in_range_is_kept_bit_for_bit():
+    body = scene_from_dict({"body": [disc_body(angle=0.3)]}).bodies[0]
+    assert body.angle == 0.3
+
+
+def test_angle_at_the_precision_limit_is_refused_naming_the_field():
+    with pytest.raises(SceneError) as err:
+        scene_from_dict({"body": [disc_body(angle=2.0**49)]})
+    assert str(err.value) == (
+        "<dict>: body 'disc' (#1): field 'angle': must be below 5.63e+14 rad in magnitude, got "
+        "5.6295e+14: doubles there are 0.125 rad apart, so the angle meant is lost; give it "
+        "modulo 2 pi"
+    )
+
+
+def test_an_angle_that_looks_like_degrees_warns_once_from_the_callers_line():
+    from runtime.io.scene_file import SceneWarning
+
+    with pytest.warns(SceneWarning) as caught:
+        scene_from_dict({"body": [disc_body(angle=90)]})
+    assert [str(w.message) for w in caught] == [
+        "<dict>: body 'disc' (#1): field 'angle': angles are in radians: 90 looks like degrees "
+        "(90 deg = 1.5708 rad)"
+    ]
+    assert caught[0].filename == __file__  # attributed to this call, not to the loader
+    bowl = {"name": "bowl", "fixed": True,
+            "shape": {"type": "bowl", "radius": 1.0, "start_angle": -10.0, "end_angle": -5.0}}  # fmt: skip
+    with pytest.warns(SceneWarning, match=r"field 'shape\.start_angle': .*-10 looks like degrees"):
+        scene_from_dict({"body": [bowl]})
+
+
+@pytest.mark.parametrize("angle", [0.3, 3.0, 6.0, 7.5, 400.0, -1e6])
+def test_angles_that_do_not_look_like_degrees_do_not_warn(angle, recwarn):
+    scene_from_dict({"body": [disc_body(angle=angle)]})
+    assert not recwarn.list
+
+
+# -- energies and momenta float64 can hold (issue #13: inf energies written as a success) ----
+
+
+@pytest.mark.parametrize(
+    ("bodies", "message"),
+    [
+        (
+            [disc_body(mass=1e300, position=(0.0, 1e9))],
+            "body 'disc' (#1): field 'position': its potential energy overflows float64 "
+            "(mass 1e+300 kg at (0, 1e+09) m)",
+        ),
+        (
+            [
+                disc_body(mass=1e300, position=(0.0, 1e7)),
+                disc_body("b", mass=1e300, position=(0.0, -1e7)),
+            ],
+            "body 'disc' (#1): field 'position': its share of the energy scale, m |g| (H + 2 r), "
+            "overflows float64 (mass 1e+300 kg, H = 2e+07 m the height the scene spans)",
+        ),
+        (
+            [disc_body(mass=1.5e308, velocity=(1.5, 0.0))],
+            "body 'disc' (#1): field 'velocity': its momentum overflows float64 "
+            "(mass 1.5e+308 kg, speed 1.5 m/s)",
+        ),
+        (
+            [
+                disc_body(mass=1e307, position=(0.0, 1.0)),
+                disc_body("twin", mass=1e307, position=(0.5, 1.0)),
+            ],
+            "body 'twin' (#2): field 'position': the scene's total potential energy overflows "
+            "float64 (with this body)",
+        ),
+    ],
+    ids=["m g h", "energy scale", "momentum", "total"],
+)
+def test_energies_and_momenta_that_overflow_are_refused_naming_body_and_field(bodies, message):
+    for body in bodies:
+        body.pop("density")
+    with pytest.raises(SceneError) as err:
+        scene_from_dict({"body": bodies})
+    assert str(err.value) == f"<dict>: {message}"
+
+
+def test_the_largest_finite_energies_still_load():
+    """The check is an overflow test, not a size limit: 1e306 kg twins at y = 1 m load, and
+    their energy sum is finite (reference: m g y summed by hand)."""
+    bodies = [
+        disc_body(mass=1e306, position=(0.0, 1.0)),
+        disc_body("twin", mass=1e306, position=(0.5, 1.0)),
+    ]
+    for body in bodies:
+        body.pop("density")
+    scene = scene_from_dict({"body": bodies})
+    assert sum(b.mass * 9.81 * b.position[1] for b in scene.bodies) == pytest.approx(1.962e307)
+
+
+# -- [simulation] stabilisation reaches the scene (issue #13; simulate reads it: the lead) ---
+
+
+@pytest.mark.parametrize("flag", [True, False])
+def test_stabilisation_flag_in_the_file_is_carried_by_the_scene(tmp_path, flag):
+    header = GOOD_HEADER + f"stabilisation = {str(flag).lower()}\n"
+    scene = load_scene(write(tmp_path, disc_toml(), header=header))
+    assert scene.simulation.stabilisation is flag
+    assert load_scene(write(tmp_path, disc_toml())).simulation.stabilisation is False
+
+
+# -- tolerances against tiny bodies (issue #13: a suggested tolerance the loader refused) ----
+
+
+def _tiny(kind: str, size: float) -> dict:
+    shape = {
+        "disc": {"type": "disc", "radius": size},
+        "ellipse": {"type": "ellipse", "a": 3 * size, "b": size},
+        "rounded_rect": {"type": "rounded_rect", "width": 2 * size, "height": 2.2 * size,
+                         "corner_radius": 0.3 * size},
+        "polygon": {"type": "polygon", "points": [[0, 0], [2 * size, 0], [0, 2 * size]]},
+    }[kind]  # fmt: skip
+    return {"name": "grain", "shape": shape, "density": 1.0, "position": [0.0, 0.0]}
+
+
+@pytest.mark.parametrize("kind", ["disc", "ellipse", "rounded_rect", "polygon"])
+def test_the_suggested_tolerance_is_one_the_loader_accepts(kind):
+    """Down to the smallest body: following the message (both tolerances at the suggested
+    value) loads; below that, the body itself is refused with the smallest size stated."""
+    import re
+
+    for size in np.geomspace(1e-50, 1e-4, 37):
+        try:
+            scene_from_dict({"body": [_tiny(kind, float(size))]})
+            continue  # the defaults fit
+        except SceneError as exc:
+            message = str(exc)
+        found = re.search(r"set it to at most (\S+) m", message)
+        if found is None:
+            assert message.startswith("<dict>: body 'grain' (#1): field 'shape': half-width "), (
+                message
+            )
+            assert "is below 2e-50 m, the smallest moving body" in message, message
+            continue
+        assert ", and overlap_tolerance" in message or float(size) > 1e-9
+        value = float(found[1])
+        tolerances = {"contact_tolerance": value, "overlap_tolerance": value}
+        scene = scene_from_dict({"scene": tolerances, "body": [_tiny(kind, float(size))]})
+        assert scene.contact_tolerance == value
+
+
+# -- bodies behind the back face of a wall, bowl or box (issue #14: "swap start and end") ---
+
+
+def _wall(start, end, name: str = "wall", **extra) -> dict:
+    shape = {"type": "wall", "start": [float(v) for v in start], "end": [float(v) for v in end]}
+    return {"name": name, "fixed": True, "shape": shape, **extra}
+
+
+def test_a_body_behind_a_turned_wall_is_refused_exactly_where_it_is_level_and_near():
+    """Reference, in the wall's own frame (x along start -> end, y to its front, the left):
+    refused iff 0 <= x <= L and -3 r < y < 0 (its bounding circle within its diameter of the
+    back face), with the depth -y in the message; checked for discs on a grid around walls
+    turned and placed at random."""
+    import re
+
+    rng = np.random.default_rng(14)
+    r, length = 0.1, 2.0
+    for _ in range(6):
+        th, origin = rng.uniform(-math.pi, math.pi), rng.uniform(-5, 5, 2)
+        along, left = (
+            np.array([math.cos(th), math.sin(th)]),
+            np.array([-math.sin(th), math.cos(th)]),
+        )
+        # a wall's material is on the right of start -> end: its front is to the left
+        wall = _wall(origin, origin + length * along)
+        for x in (-0.15, -0.05, 0.01, 0.7, 1.99, 2.05):  # not at the ends: rounding
+            for y in (-0.6, -0.31, -0.29, -0.2, -0.05, 0.1, 0.5):
+                body = disc_body(position=origin + x * along + y * left)
+                refused = 0 <= x <= length and -3 * r < y < 0
+                try:
+                    scene_from_dict({"scene": {"gravity": [0.0, 0.0]}, "body": [wall, body]})
+                    assert not refused, (th, x, y)
+                except SceneError as exc:
+                    message = str(exc)
+                    if not refused:  # only a genuine overlap may refuse it otherwise
+                        assert "overlap" in message and -r < y < r, (th, x, y, message)
+                        continue
+                    assert message.startswith("<dict>: body 'wall' (#1): field 'shape': body "
+                                              "'disc' (#2) is at the back of this wall"), message  # fmt: skip
+                    depth = float(re.search(r"its centre (\S+) m behind it", message)[1])
+                    assert depth == pytest.approx(-y, rel=1e-3)
+                    assert "swap start and end to make it face 'disc'" in message
+
+
+def test_a_plate_of_two_walls_back_to_back_shields_the_body_resting_on_it():
+    """A body on the top face is behind the bottom face's back, but the top face lies between:
+    not refused. Without the top face it is."""
+    top, bottom = _wall((-1, 0), (1, 0), "top"), _wall((1, -0.02), (-1, -0.02), "bottom")
+    scene = scene_from_dict({"body": [top, bottom, disc_body(position=(0.0, 0.1))]})
+    assert min(c.gap for c in scene.find_contacts()) == pytest.approx(0.0, abs=1e-15)
+    with pytest.raises(SceneError, match="body 'bottom' .* is at the back of this wall"):
+        scene_from_dict({"body": [bottom, disc_body(position=(0.0, 0.1))]})
+
+
+@pytest.mark.parametrize(
+    ("fixed", "position", "message"),
+    [
+        (
+            {"type": "bowl", "radius": 1.0, "start_angle": -2.5, "end_angle": -0.6},
+            (0.0, -1.1),
+            "body 'disc' (#2) is outside this bowl (its centre 0.1 m behind its arc), at its "
+            "back: a bowl holds bodies inside its circle (radius 1 m); move 'disc' inside, or "
+            "use a fixed disc for a surface to rest on from outside",
+        ),
+        (
+            {"type": "box_walls", "width": 1.0, "height": 0.5},
+            (0.0, -0.15),
+            "body 'disc' (#2) is outside this box (its centre 0.15 m behind its floor): box "
+            "walls face inwards; move 'disc' inside, or use walls facing it",
+        ),
+        (
+            {"type": "box_walls", "width": 1.0, "height": 0.5},
+            (0.65, 0.25),
+            "body 'disc' (#2) is outside this box (its centre 0.15 m behind its right side): "
+            "box walls face inwards; move 'disc' inside, or use walls facing it",
+        ),
+    ],
+    ids=["under a bowl", "under a box", "beside a box"],
+)
+def test_a_body_at_the_back_of_a_bowl_or_box_gets_the_fix_for_it(fixed, position, message):
+    bodies = [{"name": "c", "fixed": True, "shape": fixed}, disc_body(position=position)]
+    with pytest.raises(SceneError) as err:
+        scene_from_dict({"body": bodies})
+    assert str(err.value) == f"<dict>: body 'c' (#1): field 'shape': {message}"
+    inside = (0.0, -0.9) if fixed["type"] == "bowl" else (0.0, 0.1)
+    scene_from_dict({"body": [bodies[0], disc_body(position=inside)]})  # in front: loads
+
+
+def test_a_wall_turned_by_its_body_angle_faces_the_other_way():
+    floor = _wall((-2, 0), (2, 0), "floor", angle=math.pi)
+    with pytest.raises(SceneError, match="body 'floor' .* is at the back of this wall"):
+        scene_from_dict({"body": [floor, disc_body(position=(0.0, 0.1))]})

@@ -303,6 +303,8 @@ def test_shape_from_edges_checks_connection_and_orientation():
         (lambda: shapes.half_disc(0), "radius"),
         (lambda: shapes.d_shape(0.2, 1.0), "width"),
         (lambda: shapes.ellipse(1, -2), "b"),
+        (lambda: shapes.ellipse(1.0, 1e-16), "a"),  # a needle: a / b beyond MAX_AXIS_RATIO
+        (lambda: shapes.ellipse(1e-7, 1.0), "b"),
         (lambda: shapes.wall((0, 0), (0, 0)), "start"),
         (lambda: shapes.wall((0, 0), (1, float("nan"))), "end"),
         (lambda: shapes.bowl(1.0, 0.0, -1.0), "end_angle"),
@@ -336,3 +338,39 @@ def test_polygon_rejects_bad_outlines_naming_the_vertex(points, words):
         shapes.polygon(points)
     for word in words:
         assert word in str(err.value)
+
+
+@pytest.mark.parametrize("offset", [1e9, 1e11, 1e12, 1e13, 1e14])
+def test_far_away_unit_square_is_convex_in_both_orientations(offset):
+    """Issue #13: a unit square written at 1e9..1e14 m used to be refused as non-convex in a
+    quarter of the trials (its orientation came from products of coordinates near offset^2).
+    Reference: its area is 1 up to the rounding of its corners (half a spacing of doubles at
+    ``offset`` each, so at most 4 x 2 x that spacing over the perimeter)."""
+    rng = np.random.default_rng(13)
+    bound = 8 * np.spacing(offset)
+    for _ in range(50):
+        x0, y0 = rng.uniform(-1, 1, 2) * offset
+        th = rng.uniform(0, 2 * math.pi)
+        c, s = math.cos(th), math.sin(th)
+        corners = [(x0 + c * u - s * v, y0 + s * u + c * v) for u, v in
+                   ((-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5))]  # fmt: skip
+        for pts in (corners, corners[::-1]):
+            square = shapes.polygon(pts)
+            assert square.area == pytest.approx(1.0, abs=bound)
+            assert len(square.vertices) == 4
+    dart = [(offset + x, offset + y) for x, y in ((0, 0), (1, 0), (0.25, 0.25), (0, 1))]
+    with pytest.raises(ValueError, match="vertex 2 .* is reflex"):
+        shapes.polygon(dart)
+
+
+def test_needle_ellipse_limit_is_the_axis_ratio():
+    """Issue #13: a needle (a / b = 1e16) passed every size check. The limit is the ratio, at
+    1e6 (runtime/settings.py): the message gives the curvature radius b^2 / a at the tip."""
+    with pytest.raises(ValueError) as err:
+        shapes.ellipse(1.0, 1e-16)
+    assert str(err.value) == (
+        "ellipse: a / b must be at most 1e+06, got 1e+16: the radius of curvature at the ends, "
+        "b^2/a = 1e-32 m, would be lost in the rounding of positions there (~2.2e-16 m)"
+    )
+    assert shapes.ellipse(1.0, 1e-6).area == pytest.approx(math.pi * 1e-6, rel=1e-15)
+    assert shapes.ellipse(1e-6, 1.0).area == pytest.approx(math.pi * 1e-6, rel=1e-15)

@@ -20,6 +20,7 @@ _EXPORTS = {
     "SceneError": "runtime.io.scene_file",
     "load_scene": "runtime.io.scene_file",
     "scene_from_dict": "runtime.io.scene_file",
+    "SceneWarning": "runtime.io.scene_file",
     "Run": "runtime.step.simulation",
     "SimulationError": "runtime.step.world",
     "simulate": "runtime.step.simulation",

@@ -18,9 +18,11 @@ import hashlib
 import os
 import shutil
 import sys
+import warnings
 from pathlib import Path
 
 import numba
+from numba.core.errors import NumbaExperimentalFeatureWarning
 
 ROOT = Path(__file__).resolve().parent.parent
 KEEP = 4  # cache folders kept (the newest), so switching between versions stays cheap
@@ -64,3 +66,41 @@ def njit(*args, **kwargs):
     """``numba.njit`` with ``cache=True`` (on disk, in :data:`CACHE_FOLDER`) by default."""
     kwargs.setdefault("cache", True)
     return numba.njit(*args, **kwargs)
+
+
+class Bound:
+    """A compiled function called again and again with arguments of the same kinds.
+
+    Why: numba resolves the types of every argument at every call from Python; for an argument
+    that is itself a compiled function (how the engine passes the kernels of a scene's contact
+    cases, so only those are imported) that costs ~4 us each, more than a small island's whole
+    stage. The first call goes through the dispatcher (compiling, or loading the cache); later
+    calls whose arrays have the same dtype, dimensions and C layout, and whose scalars the same
+    type, go straight to the compiled entry point. Any other call takes the dispatcher again."""
+
+    def __init__(self, dispatcher) -> None:
+        self.dispatcher = dispatcher
+        self.entry = None
+        self.kinds: tuple = ()
+
+    @staticmethod
+    def _kinds(args: tuple) -> tuple:
+        return tuple(
+            (a.dtype, a.ndim, a.flags.c_contiguous) if hasattr(a, "flags") else type(a)
+            for a in args
+        )
+
+    def __call__(self, *args):
+        kinds = self._kinds(args)
+        if self.entry is not None and kinds == self.kinds:
+            return self.entry(*args)
+        with warnings.catch_warnings():
+            # compiled stages take the kernels of a scene's cases as function arguments
+            # (runtime.solve.kernel_set): numba calls that experimental when it compiles them
+            warnings.simplefilter("ignore", NumbaExperimentalFeatureWarning)
+            result = self.dispatcher(*args)
+        types = tuple(self.dispatcher.typeof_pyval(a) for a in args)
+        overload = self.dispatcher.overloads.get(types)
+        if overload is not None:
+            self.entry, self.kinds = overload.entry_point, kinds
+        return result

@@ -52,9 +52,19 @@ class Trajectory:
     """t -> (poses, velocities) after integrating t from (q0, v0), for 0 <= t <= h."""
 
     def __init__(
-        self, method: str, rhs: Rhs, q0: np.ndarray, v0: np.ndarray, h: float, a0: np.ndarray
+        self,
+        method: str,
+        rhs: Rhs,
+        q0: np.ndarray,
+        v0: np.ndarray,
+        h: float,
+        a0: np.ndarray,
+        fast: Callable[[float], State | None] | None = None,
     ) -> None:
+        """``fast(t)``: the same step compiled (runtime.step.compiled_stages), or None where it
+        cannot do it; then ``rhs`` does it stage by stage."""
         self.method, self.rhs, self.q0, self.v0, self.h, self.a0 = method, rhs, q0, v0, h, a0
+        self.fast = fast
         self.cache: dict[float, State] = {0.0: (q0, v0)}
         self.dense = None
         if method in ADAPTIVE:
@@ -68,6 +78,10 @@ class Trajectory:
 
     def _integrate(self, t: float) -> State:
         if self.dense is None:
+            if self.fast is not None:
+                done = self.fast(t)
+                if done is not None:
+                    return done
             return FIXED_STEP[self.method](self.rhs, self.q0, self.v0, t, self.a0)
         n = self.q0.shape[0]
         y = self.dense.y[:, -1] if t >= self.h else self.dense.sol(t)

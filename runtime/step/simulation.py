@@ -43,8 +43,8 @@ class Run:
 
     t (K,), poses and velocities (K, n, 3), energy (K,) (mechanical: kinetic + gravitational),
     momentum (K, 2), min_gap (K,) (smallest gap among the contacts found at each record's time:
-    < 0 is a penetration), impact_losses (K,) (kinetic energy taken out by impacts during the
-    step that starts at each record), impact_times (I,) (located impacts);
+    < 0 is a penetration), impact_losses (K,) (kinetic energy taken out by impacts since the
+    record before; 0 at the first), impact_times (I,) (located impacts);
     contacts[k] (runtime.collide.contact_set.Contacts) and contact_forces[k] (N): the resting
     contacts at record k and their forces. :meth:`contact_table` gives them flat.
     """
@@ -183,19 +183,21 @@ def simulate(
     recorder = _Recorder(scene, world.method, dt)
     steps = max(0, math.ceil(duration / dt - 1e-9))
     start = time.perf_counter()
+    lost = 0.0  # at impacts since the last record
     try:
         for k in range(steps):
             h = min(dt, duration - k * dt) if k == steps - 1 else dt
             before = (world.t, world.poses, world.velocities, world.energy())
             report = world.step(h)
             if k % record_every == 0:
-                recorder.add(before, report.frame, report.recorded, report.forces,
-                             report.impact_loss)  # fmt: skip
+                recorder.add(before, report.frame, report.recorded, report.forces, lost)
+                lost = 0.0
+            lost += report.impact_loss
             if progress is not None:
                 progress(min(1.0, (k + 1) / steps))
         frame, solution = world.final_frame()
         state = (world.t, world.poses, world.velocities, world.energy())
-        recorder.add(state, frame, frame.resting, solution.forces, 0.0)
+        recorder.add(state, frame, frame.resting, solution.forces, lost)
     except SimulationError as exc:
         exc.run = recorder.finish(world, time.perf_counter() - start)
         raise

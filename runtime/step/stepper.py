@@ -34,13 +34,16 @@ import numpy as np
 
 from runtime import settings
 from runtime.collide import sweep
+from runtime.compiled import Bound
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution, Stabilisation
 from runtime.solve.islands import body_islands, contact_islands
+from runtime.solve.kernel_set import row_kernels
 from runtime.solve.rows import RowEvaluator
+from runtime.step import compiled_stages
 from runtime.step.classify import RESTING, Bodies, Frame, Limits, make_frame
 from runtime.step.collision import Collision
 from runtime.step.events import EventSearch
-from runtime.step.integrators import Trajectory
+from runtime.step.integrators import FIXED_STEP, Trajectory
 from runtime.step.resting import settle
 
 
@@ -106,6 +109,11 @@ class Stepper:
         self.recent: frozenset = frozenset()  # ... at the end of the last step
         self._limits: dict[float, Limits] = {}
         self.evaluations = 0  # right-hand-side evaluations (integrator stages)
+        self.compiled = method in FIXED_STEP and stabilisation is None
+        if self.compiled:
+            self.kernels = row_kernels(scene.contact_cases())
+            self._step = Bound(compiled_stages.step)
+            self._method_id = compiled_stages.METHOD_ID[method]
 
     # -- stages ----------------------------------------------------------------------------
 
@@ -177,6 +185,31 @@ class Stepper:
 
         return accelerations
 
+    def trajectory(self, problem: ForceProblem, q, v, h: float, a0) -> Trajectory:
+        """Stage 5: t -> state after integrating t from (q, v) with ``problem``'s forces."""
+        fast = self._fast(problem, q, v, a0) if self.compiled else None
+        return Trajectory(self.method, self.rhs(problem), q, v, h, a0, fast)
+
+    def _fast(self, problem: ForceProblem, q, v, a0):
+        """t -> the compiled step (runtime.step.compiled_stages), or None where it cannot."""
+        c = problem.contacts
+        args = (
+            *self.kernels, self._method_id, q, v, 0.0, a0, c.case, c.body1, c.body2,
+            c.geometry, np.ascontiguousarray(self.fixed[c.body2]), problem.offsets,
+            problem.guess, self.forces.inverse_mass, self.fixed, self.forces.free_acceleration,
+            settings.LCP_TOL, settings.DENSE_ISLAND,
+        )  # fmt: skip
+        at = 7  # where h goes
+
+        def step(t: float):
+            q_out, v_out = np.empty_like(q), np.empty_like(v)
+            if self._step(*args[:at], float(t), *args[at + 1 :], q_out, v_out):
+                self.evaluations += 3 if self._method_id == 2 else self._method_id
+                return q_out, v_out
+            return None
+
+        return step
+
     # -- the step --------------------------------------------------------------------------
 
     def step(
@@ -212,9 +245,7 @@ class Stepper:
             if report.frame is None:
                 self._record_first(report, q, frame, resting)
             start_v = frame.velocities
-            trial = Trajectory(
-                self.method, self.rhs(resting.problem), q, start_v, remaining, resting.accelerations
-            )
+            trial = self.trajectory(resting.problem, q, start_v, remaining, resting.accelerations)
             end = trial.at(remaining)
             labels = self._islands(frame, active)
             if sweep.outran(q, end[0], self.radii, frame.margin):
@@ -311,10 +342,9 @@ class _IslandTrajectories:
         if island not in self.made:
             problem, stepper, trial = self.resting.problem, self.stepper, self.trial
             keep = self.labels[_moving_body(problem.contacts, stepper.fixed)] == island
-            self.made[island] = Trajectory(
-                stepper.method, stepper.rhs(problem.subset(keep)), trial.q0, trial.v0, trial.h,
-                trial.a0,
-            )  # fmt: skip
+            self.made[island] = stepper.trajectory(
+                problem.subset(keep), trial.q0, trial.v0, trial.h, trial.a0
+            )
         return self.made[island]
 
 

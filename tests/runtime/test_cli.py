@@ -21,7 +21,6 @@ from PIL import Image
 
 import runtime
 from runtime.app import animation, cli, plotting, progress
-from runtime.app.outputs import OUTPUT_FILES
 from runtime.model.shapes import Arc, Segment, bowl
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"

@@ -9,7 +9,7 @@ import sys
 try:
     from runtime.app.cli import main
 except KeyboardInterrupt:
-    print("simulate: interrupted", file=sys.stderr)
+    print("python -m runtime: interrupted", file=sys.stderr)
     sys.exit(130)
 
 sys.exit(main(prog="python -m runtime"))

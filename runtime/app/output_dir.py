@@ -41,13 +41,30 @@ def _reason(exc: OSError) -> str:
 
 @contextlib.contextmanager
 def _signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM wait until the block ends (they are delivered then)."""
-    held = {signal.SIGINT, signal.SIGTERM}
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    """SIGINT and SIGTERM that arrive in the block are delivered when it ends.
+
+    Python-level handlers, not a signal mask: a mask holds signals for one thread only, and a
+    process-directed signal (Ctrl-C) would go to another thread (BLAS, numba) instead.  Outside
+    the main thread, where handlers cannot be set, nothing is held."""
+    pending: list[int] = []
+
+    def hold(signum: int, _frame: object) -> None:
+        if signum not in pending:
+            pending.append(signum)
+
+    held = (signal.SIGINT, signal.SIGTERM)
+    try:
+        previous = [signal.signal(s, hold) for s in held]
+    except ValueError:  # not the main thread
+        yield
+        return
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        for s, handler in zip(held, previous, strict=True):
+            signal.signal(s, handler)
+        for s in pending:
+            signal.raise_signal(s)
 
 
 class OutputDir:
@@ -92,6 +109,14 @@ class OutputDir:
         out = self.target
         if out.exists() and not out.is_dir():
             raise OutputError(f"output {str(out)!r} exists and is not a directory")
+        for ancestor in out.parents:
+            if ancestor.exists():
+                if not ancestor.is_dir():
+                    raise OutputError(
+                        f"cannot create the output {str(out)!r}: {str(ancestor)!r} is a file, "
+                        "not a directory"
+                    )
+                break
         if out.is_dir() and not self.force:
             try:
                 busy = any(out.iterdir())

@@ -25,8 +25,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
 
 from runtime.app.contact_table import contact_table  # noqa: E402
 from runtime.app.energy import energy_budget  # noqa: E402
@@ -38,6 +38,7 @@ __all__ = [
     "FIXED_FILL",
     "NO_MATHTEXT",
     "edge_points",
+    "energy_forces_figure",
     "outline",
     "per_contact_forces",
     "place",
@@ -156,39 +157,39 @@ def _energy_panel(ax: Any, run: Any, t: np.ndarray) -> None:
     _legend(ax, title=f"lost at {budget.impacts} impacts: {lost:.3g} J\ndrift: {drift:.3g} J")
 
 
-def plot_energy_forces(run: Any, names: Sequence[str], path: str | Path) -> Path:
+def energy_forces_figure(run: Any, names: Sequence[str]) -> Figure:
     """Two stacked panels over time: the energy (change, lost at impacts, drift) and the normal
-    contact forces (their total, and each contact).  Writes a PNG to ``path``."""
-    path = Path(path)
+    contact forces (their total, and each contact)."""
     t = np.asarray(run.t, dtype=float)
     total = np.array([np.sum(f) for f in run.contact_forces], dtype=float)
     with matplotlib.rc_context(NO_MATHTEXT):
-        fig, (ax_e, ax_f) = plt.subplots(2, 1, figsize=(9, 5.5), sharex=True, layout="constrained")
-        try:
-            if len(t):
-                _energy_panel(ax_e, run, t)
-            ax_e.axhline(0.0, color="0.6", lw=0.6)
-            ax_e.set_title(f"{run.scene_name}: {run.method}, dt = {run.dt:g} s")
-            ax_e.grid(alpha=0.3)
-            if len(total):  # underneath: with one contact it is that contact's force
-                ax_f.plot(t, total, color="0.3", lw=3.0, alpha=0.35, label="total")
-            series = per_contact_forces(run)
-            pairs = [key[:2] for key in series]
-            for i, (key, force) in enumerate(series.items()):  # in order of first touch
-                label = _contact_label(key, names, pairs.count(key[:2]) > 1)
-                ax_f.plot(
-                    t, force, lw=1.0, color=f"C{(i + 1) % 10}",
-                    label=label if i < 8 else None,
-                )  # fmt: skip
-            ax_f.set_xlabel("time t [s]")
-            ax_f.set_ylabel("normal contact force [N]")
-            ax_f.grid(alpha=0.3)
-            if len(total):
-                more = f"the first 8 of {len(series)} contacts" if len(series) > 8 else None
-                _legend(ax_f, title=more)
-            else:
-                ax_f.text(0.5, 0.5, "nothing recorded", ha="center", transform=ax_f.transAxes)
-            fig.savefig(path, dpi=100)
-        finally:
-            plt.close(fig)
+        fig = Figure(figsize=(9, 5.5), layout="constrained")
+        ax_e, ax_f = fig.subplots(2, 1, sharex=True)
+        if len(t):
+            _energy_panel(ax_e, run, t)
+        ax_e.axhline(0.0, color="0.6", lw=0.6)
+        ax_e.set_title(f"{run.scene_name}: {run.method}, dt = {run.dt:g} s")
+        ax_e.grid(alpha=0.3)
+        if len(total):  # underneath: with one contact it is that contact's force
+            ax_f.plot(t, total, color="0.3", lw=3.0, alpha=0.35, label="total")
+        series = per_contact_forces(run)
+        pairs = [key[:2] for key in series]
+        for i, (key, force) in enumerate(series.items()):  # in order of first touch
+            label = _contact_label(key, names, pairs.count(key[:2]) > 1)
+            ax_f.plot(t, force, lw=1.0, color=f"C{(i + 1) % 10}", label=label if i < 8 else None)
+        ax_f.set_xlabel("time t [s]")
+        ax_f.set_ylabel("normal contact force [N]")
+        ax_f.grid(alpha=0.3)
+        if len(total):
+            more = f"the first 8 of {len(series)} contacts" if len(series) > 8 else None
+            _legend(ax_f, title=more)
+        else:
+            ax_f.text(0.5, 0.5, "nothing recorded", ha="center", transform=ax_f.transAxes)
+    return fig
+
+
+def plot_energy_forces(run: Any, names: Sequence[str], path: str | Path) -> Path:
+    """The energy and contact-force figure of the run as a PNG at ``path``."""
+    path = Path(path)
+    energy_forces_figure(run, names).savefig(path, dpi=100)
     return path

@@ -13,9 +13,9 @@ import json
 import math
 from types import SimpleNamespace
 
+import matplotlib
 import numpy as np
 import pytest
-import matplotlib
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 

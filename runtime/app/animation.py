@@ -32,6 +32,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from PIL import Image  # noqa: E402
 
 from runtime.app.plotting import FIXED_EDGE, FIXED_FILL, NO_MATHTEXT, outline, place  # noqa: E402
+from runtime.app.text import terminal_safe  # noqa: E402
 
 __all__ = [
     "FfmpegError",
@@ -186,7 +187,8 @@ def render_frames(scene: Any, run: Any, look: Look = Look()) -> Iterator[np.ndar
         ax.set_ylim(view.centre[1] - view.half_y, view.centre[1] + view.half_y)
         ax.set_aspect("equal", adjustable="box")
         ax.tick_params(labelsize=7)
-        ax.set_title(f"{run.scene_name} ({run.method}, dt = {run.dt:g} s)", fontsize=8)
+        title = terminal_safe(f"{run.scene_name} ({run.method}, dt = {run.dt:g} s)")
+        ax.set_title(title, fontsize=8)
         moving: list[tuple[int, Any, Any, Any]] = []  # (body index, edge line, fill, spoke)
         colour = 0
         for i, body in enumerate(scene.bodies):

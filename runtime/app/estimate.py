@@ -106,18 +106,18 @@ def _memory_limit() -> float:
 
 
 def human_seconds(seconds: float) -> str:
-    """'42 s', '7.5 min', '3.2 h', '12 days', '3.1e+04 years'."""
+    """'42 s', '7.5 min', '3.2 h', '12 days', '3.1e+04 years' (3 significant digits)."""
     for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
         if seconds >= 2 * size:
-            return f"{seconds / size:.2g} {unit}"
-    return f"{seconds:.2g} s"
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.3g} s"
 
 
 def human_bytes(size: float) -> str:
-    """'350 kB', '2.1 GB', '4.4e+05 GB' (decimal units)."""
+    """'350 kB', '2.1 GB', '4.4e+05 GB' (decimal units, 3 significant digits)."""
     for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
         if size >= scale:
-            return f"{size / scale:.2g} {unit}"
+            return f"{size / scale:.3g} {unit}"
     return f"{size:.0f} B"
 
 

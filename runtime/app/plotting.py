@@ -10,8 +10,8 @@ animation is runtime/app/animation.py.
 Only matplotlib (Agg backend, no display needed) is used.  Bodies are drawn from their exact
 edges -- segments, convex and concave arcs and ellipses, sampled densely -- placed at each
 recorded pose ``X + R(th) p`` (docs/conventions.md).  Names from the scene are drawn as plain
-text (mathtext off: a ``$`` in a name is a dollar sign), and legends sit beside the axes, off
-the data.
+text (mathtext off: a ``$`` in a name is a dollar sign; control characters escaped, as on the
+terminal), and legends sit beside the axes, off the data.
 """
 
 from __future__ import annotations
@@ -30,6 +30,7 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from runtime.app.contact_table import contact_table  # noqa: E402
 from runtime.app.energy import energy_budget  # noqa: E402
+from runtime.app.text import terminal_safe  # noqa: E402
 from runtime.collide.contact_set import KIND_NAMES  # noqa: E402
 from runtime.model.shapes import TAU, Arc, Ellipse, Segment  # noqa: E402
 
@@ -125,7 +126,7 @@ def _contact_label(key: tuple, names: Sequence[str], several: bool) -> str:
     def name(i: int) -> str:
         return names[i] if 0 <= i < len(names) else str(i)
 
-    label = f"{name(b1)}/{name(b2)}"
+    label = terminal_safe(f"{name(b1)}/{name(b2)}")
     if case:
         label += f" ({case})"
     return label + (f" {_feature_text(feature)}" if several else "")
@@ -168,7 +169,7 @@ def energy_forces_figure(run: Any, names: Sequence[str]) -> Figure:
         if len(t):
             _energy_panel(ax_e, run, t)
         ax_e.axhline(0.0, color="0.6", lw=0.6)
-        ax_e.set_title(f"{run.scene_name}: {run.method}, dt = {run.dt:g} s")
+        ax_e.set_title(terminal_safe(f"{run.scene_name}: {run.method}, dt = {run.dt:g} s"))
         ax_e.grid(alpha=0.3)
         if len(total):  # underneath: with one contact it is that contact's force
             ax_f.plot(t, total, color="0.3", lw=3.0, alpha=0.35, label="total")

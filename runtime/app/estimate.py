@@ -21,8 +21,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from runtime import settings
+from runtime.app.text import human_bytes, human_seconds
 
-__all__ = ["Estimate", "human_bytes", "human_seconds", "probe", "warning"]
+__all__ = ["Estimate", "probe", "warning"]
 
 
 @dataclass(frozen=True)
@@ -103,22 +104,6 @@ def _memory_limit() -> float:
     except (ValueError, OSError):
         return settings.WARN_BYTES
     return min(settings.WARN_BYTES, 0.5 * physical)
-
-
-def human_seconds(seconds: float) -> str:
-    """'42 s', '7.5 min', '3.2 h', '12 days', '3.1e+04 years' (3 significant digits)."""
-    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
-        if seconds >= 2 * size:
-            return f"{seconds / size:.3g} {unit}"
-    return f"{seconds:.3g} s"
-
-
-def human_bytes(size: float) -> str:
-    """'350 kB', '2.1 GB', '4.4e+05 GB' (decimal units, 3 significant digits)."""
-    for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
-        if size >= scale:
-            return f"{size / scale:.3g} {unit}"
-    return f"{size:.0f} B"
 
 
 def warning(estimate: Estimate | None, bodies: int) -> str | None:

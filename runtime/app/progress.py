@@ -14,6 +14,8 @@ import time
 from collections.abc import Callable
 from typing import TextIO
 
+from runtime.app.text import human_seconds
+
 __all__ = ["ProgressBar", "ProgressLines", "remaining"]
 
 
@@ -22,7 +24,7 @@ def remaining(elapsed: float, fraction: float) -> str:
     if not fraction > 0:
         return ""
     left = elapsed * (1.0 - fraction) / fraction
-    return f"~{left:.0f} s left" if math.isfinite(left) else ""
+    return f"~{human_seconds(left)} left" if math.isfinite(left) else ""
 
 
 class ProgressBar:
@@ -68,7 +70,7 @@ class ProgressBar:
 
 class ProgressLines:
     """A plain line per ``interval`` s (for a log, a pipe, CI):
-    ``simulate: 41.0% (t = 4.1 of 10 s simulated), 12 s elapsed, ~17 s left``."""
+    ``simulate: 41% (t = 4.1 of 10 s simulated), 12 s elapsed, ~17 s left``."""
 
     def __init__(
         self,
@@ -94,7 +96,7 @@ class ProgressLines:
         elapsed = now - self.start
         left = remaining(elapsed, fraction)
         self.stream.write(
-            f"{self.prog}: {100 * fraction:.1f}% (t = {fraction * self.duration:.4g} of "
+            f"{self.prog}: {100 * fraction:.3g}% (t = {fraction * self.duration:.4g} of "
             f"{self.duration:.4g} s simulated), {elapsed:.0f} s elapsed"
             f"{', ' + left if left else ''}\n"
         )

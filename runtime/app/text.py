@@ -1,4 +1,4 @@
-"""Text from a scene file made safe for where the application shows it.
+"""Text the application shows: names from a scene file made safe, durations and sizes in words.
 
 Why: scene and body names are the user's text.  Printed raw, a name holding terminal escape codes
 recolours or rewrites the user's terminal (and a newline breaks the one-line messages); used as
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["folder_name", "terminal_safe"]
+__all__ = ["folder_name", "human_bytes", "human_seconds", "terminal_safe"]
 
 
 def _escape(char: str) -> str:
@@ -37,3 +37,19 @@ def folder_name(name: str, fallback: str = "scene") -> str:
     of anything else as one ``_``, no leading dot (no hidden folders, no ``..``)."""
     safe = _UNSAFE.sub("_", name).lstrip("._").rstrip("_")
     return safe or fallback
+
+
+def human_seconds(seconds: float) -> str:
+    """'42 s', '7.5 min', '3.2 h', '12 days', '3.1e+04 years' (3 significant digits)."""
+    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
+        if seconds >= 2 * size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.3g} s"
+
+
+def human_bytes(size: float) -> str:
+    """'350 kB', '2.1 GB', '4.4e+05 GB' (decimal units, 3 significant digits)."""
+    for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if size >= scale:
+            return f"{size / scale:.3g} {unit}"
+    return f"{size:.0f} B"

@@ -18,7 +18,7 @@ from app_helpers import start_command, wait_for
 from conftest import SMALL_SCENE
 
 from runtime.app import cli, estimate, progress
-from runtime.app.text import folder_name, terminal_safe
+from runtime.app.text import folder_name, human_bytes, human_seconds, terminal_safe
 
 
 @pytest.mark.parametrize(
@@ -145,13 +145,13 @@ def test_short_runs_are_not_probed(scene_file, tmp_path):
 
 
 def test_estimate_units():
-    assert estimate.human_seconds(42) == "42 s"
-    assert estimate.human_seconds(600) == "10 min"
-    assert estimate.human_seconds(3 * 86400) == "3 days"
-    assert estimate.human_seconds(1e12 * 5e-4) == "15.8 years"
-    assert estimate.human_seconds(1e12) == "3.17e+04 years"
-    assert estimate.human_bytes(3.5e5) == "350 kB"
-    assert estimate.human_bytes(2.1e9) == "2.1 GB"
+    assert human_seconds(42) == "42 s"
+    assert human_seconds(600) == "10 min"
+    assert human_seconds(3 * 86400) == "3 days"
+    assert human_seconds(1e12 * 5e-4) == "15.8 years"
+    assert human_seconds(1e12) == "3.17e+04 years"
+    assert human_bytes(3.5e5) == "350 kB"
+    assert human_bytes(2.1e9) == "2.1 GB"
 
 
 # -- progress ------------------------------------------------------------------------------------
@@ -172,10 +172,10 @@ def test_progress_lines_every_interval_after_the_delay():
         clock.now = 0.5 * k
         lines(k / 40)
     assert stream.getvalue().splitlines() == [
-        "simulate: 25.0% (t = 2.5 of 10 s simulated), 5 s elapsed, ~15 s left",
-        "simulate: 50.0% (t = 5 of 10 s simulated), 10 s elapsed, ~10 s left",
-        "simulate: 75.0% (t = 7.5 of 10 s simulated), 15 s elapsed, ~5 s left",
-        "simulate: 100.0% (t = 10 of 10 s simulated), 20 s elapsed, ~0 s left",
+        "simulate: 25% (t = 2.5 of 10 s simulated), 5 s elapsed, ~15 s left",
+        "simulate: 50% (t = 5 of 10 s simulated), 10 s elapsed, ~10 s left",
+        "simulate: 75% (t = 7.5 of 10 s simulated), 15 s elapsed, ~5 s left",
+        "simulate: 100% (t = 10 of 10 s simulated), 20 s elapsed, ~0 s left",
     ]
 
 
@@ -190,7 +190,7 @@ def test_progress_goes_to_a_log_when_stderr_is_not_a_terminal(
     assert cli.main([str(scene_file()), "--duration", "0.01", "--out", str(tmp_path / "o")]) == 0
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 10  # one per step here
-    assert err[-1].startswith("simulate: 100.0% (t = 0.01 of 0.01 s simulated), 0 s elapsed")
+    assert err[-1].startswith("simulate: 100% (t = 0.01 of 0.01 s simulated), 0 s elapsed")
     assert all("\r" not in line for line in err)
     assert (
         cli.main([str(scene_file()), "--duration", "0.01", "--out", str(tmp_path / "q"), "--quiet"])

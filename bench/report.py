@@ -158,7 +158,7 @@ class Peer:
     """A peer engine of the report: how to configure and run it, and its default iterations."""
 
     name: str
-    config: Callable  # (dt, iterations, segments) -> a config of bench/peers.py
+    config: Callable  # (dt=, iterations=, segments=) -> a config of bench/peers.py
     simulate: Callable  # (scene, duration, config, with_segments) -> Trajectory
     iterations: tuple[int, ...]  # solver iterations swept, the engine's default first
     version: Callable[[], str]
@@ -253,8 +253,10 @@ def peer_configurations(spec: SceneSpec, quick: bool, peer: Peer) -> list:
     dts = QUICK_PEER_DT if quick else PEER_DT
     segments = BOWL_SEGMENTS if spec.has_bowl else (peers.PeerConfig.segments,)
     default, *more = peer.iterations
-    configs = [peer.config(dt, default, n) for n in segments for dt in dts]
-    configs += [peer.config(dt, it, segments[-1]) for it in more for dt in dts]
+    configs = [peer.config(dt=dt, iterations=default, segments=n) for n in segments for dt in dts]
+    configs += [
+        peer.config(dt=dt, iterations=it, segments=segments[-1]) for it in more for dt in dts
+    ]
     return configs
 
 

@@ -333,6 +333,8 @@ def _iterations_note(info: PeerInfo, theirs: list[Point], metric: str) -> str:
             f"{info.base_iterations} (one contact: sequential impulses converge in one sweep), "
             "so their lines coincide."
         )
+    if worst < 1.01:
+        return f"{info.name}: {more} solver iterations change its {metric} by less than 1 %."
     return f"{info.name}: {more} solver iterations change its {metric} by up to {worst:.2g}×."
 
 

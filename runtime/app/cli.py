@@ -210,7 +210,33 @@ def _one_line(info: dict[str, Any], out: Path) -> str:
     )
 
 
+def _simulate(scene: Any, duration: float, dt: float, method: str, args: argparse.Namespace,
+              prog: str) -> tuple[Any, str | None, float]:  # fmt: skip
+    """Run the scene with progress on stderr: (run, the SimulationError's message or None, wall
+    time). A run that fails part-way returns what it recorded."""
+    import runtime
+    from runtime.app.progress import ProgressBar, ProgressLines
+
+    bar = None
+    if not args.quiet:
+        tty = sys.stderr.isatty()
+        bar = ProgressBar(sys.stderr) if tty else ProgressLines(sys.stderr, duration, prog=prog)
+    start = time.perf_counter()
+    try:
+        guards = runtime.Guards(args.max_penetration, args.max_energy_growth)
+        run = runtime.simulate(scene, duration, dt, method, progress=bar, guards=guards)
+        return run, None, run.wall_time if run.wall_time > 0 else time.perf_counter() - start
+    except runtime.SimulationError as exc:
+        return exc.run, str(exc), time.perf_counter() - start
+    except ValueError as exc:  # the engine's own argument checks
+        raise UsageError(str(exc)) from None
+    finally:
+        if bar is not None:
+            bar.close()
+
+
 def run_command(args: argparse.Namespace, prog: str = PROG) -> int:
+    """Check everything, run, write the files; the exit status (bad input raises UsageError)."""
     _check_arguments(args)
     if args.mp4:
         from runtime.app.animation import FfmpegError, ffmpeg
@@ -226,23 +252,15 @@ def run_command(args: argparse.Namespace, prog: str = PROG) -> int:
     if dt > duration:
         raise UsageError(f"--dt {dt:g} s is longer than the duration {duration:g} s")
     steps = int(round(duration / dt))
-    out = (
-        Path(args.out) if args.out else Path("out") / folder_name(scene.name, Path(args.scene).stem)
-    )
+    out = Path(args.out or Path("out") / folder_name(scene.name, Path(args.scene).stem))
 
-    import runtime
     from runtime.app import estimate
     from runtime.app.animation import Look
     from runtime.app.output_dir import OutputDir, OutputError
     from runtime.app.outputs import OUTPUT_FILES, Options, write_outputs
-    from runtime.app.progress import ProgressBar, ProgressLines
 
-    options = Options(
-        gif=not args.no_gif,
-        mp4=args.mp4,
-        csv=args.csv,
-        look=Look(*args.size, dpi=args.dpi, fps=args.fps, arrows=not args.no_arrows),
-    )
+    look = Look(*args.size, dpi=args.dpi, fps=args.fps, arrows=not args.no_arrows)
+    options = Options(gif=not args.no_gif, mp4=args.mp4, csv=args.csv, look=look)
     try:
         with OutputDir(out, force=args.force, owned=OUTPUT_FILES) as output:
             if output.stale_lock:
@@ -254,31 +272,7 @@ def run_command(args: argparse.Namespace, prog: str = PROG) -> int:
             warning = estimate.warning(estimate.probe(scene, steps, dt, method), len(scene.bodies))
             if warning:
                 _say(sys.stderr, prog, f"warning: {warning}")
-            bar = None
-            if not args.quiet:
-                tty = sys.stderr.isatty()
-                bar = (
-                    ProgressBar(sys.stderr)
-                    if tty
-                    else ProgressLines(sys.stderr, duration, prog=prog)
-                )
-            start = time.perf_counter()
-            error = None
-            try:
-                guards = runtime.Guards(args.max_penetration, args.max_energy_growth)
-                run = runtime.simulate(scene, duration, dt, method, progress=bar, guards=guards)
-            except runtime.SimulationError as exc:
-                run, error = exc.run, str(exc)
-            except ValueError as exc:  # the engine's own argument checks
-                raise UsageError(str(exc)) from None
-            finally:
-                if bar is not None:
-                    bar.close()
-            wall = (
-                run.wall_time
-                if error is None and run.wall_time > 0
-                else time.perf_counter() - start
-            )
+            run, error, wall = _simulate(scene, duration, dt, method, args, prog)
             info = write_outputs(scene, run, output.staging, options, wall_time=wall, error=error)
             output.commit(info["files"])
     except OutputError as exc:

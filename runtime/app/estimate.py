@@ -94,7 +94,8 @@ def probe(scene: Any, steps: int, dt: float, method: str) -> Estimate | None:
     if not times:
         return None
     per_step = statistics.median(times[1:] or times)
-    memory = _memory_per_step(scene, dt, method, min(5, len(times)))
+    traced = max(1, min(5, len(times), int(settings.PROBE_SECONDS / (3.0 * per_step))))
+    memory = _memory_per_step(scene, dt, method, traced)  # tracemalloc: ~3x slower steps
     return Estimate(steps, per_step, memory, len(times))
 
 

@@ -292,10 +292,11 @@ class Mp4Writer:
             raise FfmpegError(f"cannot run ffmpeg: {exc.strerror or exc}") from None
 
     def write(self, frame: np.ndarray) -> None:
+        """One frame; if ffmpeg has stopped, nothing (``finish`` reports why)."""
         try:
             self.process.stdin.write(frame.tobytes())
         except BrokenPipeError:
-            self.finish()  # raises with ffmpeg's own message
+            pass
 
     def finish(self) -> None:
         """Wait for ffmpeg; FfmpegError with its last message line if it failed."""
@@ -320,7 +321,8 @@ def save_animation(
     scene: Any, run: Any, path: str | Path, look: Look = Look(), mp4: Path | None = None
 ) -> int:
     """Write the run's animation as a GIF to ``path`` (and an MP4 to ``mp4``), rendering each
-    frame once; returns the number of frames."""
+    frame once; returns the number of frames.  If ffmpeg fails, the GIF is written and then
+    FfmpegError raised."""
     video = Mp4Writer(mp4, look.width, look.height, look.playback_fps) if mp4 else None
     images = []
     try:
@@ -328,11 +330,11 @@ def save_animation(
             images.append(_palette(frame))
             if video is not None:
                 video.write(frame)
+        write_gif(images, Path(path), look.playback_fps)
     except BaseException:
         if video is not None:
             video.abort()
         raise
     if video is not None:
         video.finish()
-    write_gif(images, Path(path), look.playback_fps)
     return len(images)

@@ -149,11 +149,11 @@ def write_outputs(
             mp4 = folder / MP4 if options.mp4 else None
             gif = folder / ANIMATION
             try:
-                info["gif_frames"] = animation.save_animation(scene, run, gif, options.look, mp4)
+                animation.save_animation(scene, run, gif, options.look, mp4)
             except FfmpegError as exc:
                 info["mp4_error"] = str(exc)
                 (folder / MP4).unlink(missing_ok=True)
-                info["gif_frames"] = animation.save_animation(scene, run, gif, options.look)
+            info["animation_frames"] = len(animation.frame_indices(run.t, options.look.fps))
             if not options.gif:
                 gif.unlink()
     info["files"] = sorted({p.name for p in folder.iterdir() if p.name in OUTPUT_FILES} | {SUMMARY})

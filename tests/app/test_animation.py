@@ -104,7 +104,7 @@ def test_mp4_streams_every_frame_to_ffmpeg(tmp_path, monkeypatch, scene_file, ca
     args = ["--duration", "0.1", "--out", str(out), "--mp4", "--size", "160x120", "--fps", "40"]
     assert cli.main([str(scene_file()), *args, "--quiet"]) == 0, capsys.readouterr().err
     record = json.loads(log.read_text())
-    frames = json.loads((out / "summary.json").read_text())["gif_frames"]
+    frames = json.loads((out / "summary.json").read_text())["animation_frames"]
     assert frames == 5  # 0.1 s at 40 per second, both ends
     assert record["bytes"] == frames * 160 * 120 * 3
     argv = record["args"]

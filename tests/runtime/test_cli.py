@@ -1,4 +1,4 @@
-"""Tests of the ``simulate`` command (runtime/cli.py) and its pictures (runtime/plotting.py).
+"""Tests of the ``simulate`` command (runtime/app/cli.py) and its pictures (runtime/app/).
 
 Why: the command is how people run scenes, so its files must be valid and consistent with each
 other, it must never overwrite results by accident, and bad input must give one clear line and

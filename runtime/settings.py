@@ -86,3 +86,13 @@ PENETRATION_LIMIT = 1e-2  # relative to the smaller body's bounding radius: an o
 # than this is a missed impact (a located impact leaves ~1e-12 m)
 ENERGY_GROWTH_LIMIT = 0.5  # relative to the scene's energy scale: frictionless contacts do no
 # work and restitution <= 1, so a rise of the energy by half the scale is an integrator blow-up
+
+# -- the application (simulate command) ---------------------------------------------------------
+
+PROBE_FROM = 2e5  # steps x bodies: a run this large is probed (a few timed steps) before it
+# starts, to warn of its time and memory; below, a run takes about a minute at most
+PROBE_STEPS = 20  # steps of the probe: enough for a median step time past the first step's set-up
+PROBE_SECONDS = 2.0  # s of wall time the probe may take at most (a slow scene stops it earlier)
+WARN_SECONDS = 600.0  # s: expected wall time above which the run is announced with a warning
+WARN_BYTES = 2e9  # bytes: expected memory for the recorded steps above which it warns (or half
+# the machine's memory if that is less)

@@ -2,47 +2,54 @@
 
 Why this module exists: running a scene should not need a Python session.  ``simulate`` reads a
 scene (docs/scene-format.md), runs :func:`runtime.simulate`, and leaves everything needed to
-judge the run in one directory -- the trajectory (``trajectory.npz``), the energy drift and
-contact forces (``energy_forces.png``), an animation (``animation.gif``) and the key numbers
-(``summary.json``) -- plus a one-line summary on stdout.
-
-Bad input (a missing or invalid scene file, a bad ``--dt``, an unknown ``--method``, an output
-directory that would be overwritten) is reported in one line on stderr with exit status 2,
-never a traceback.  A run that fails part-way (:class:`runtime.SimulationError`) still writes
-what it recorded, so the failure can be inspected, and exits with status 1.
+judge the run in one folder (runtime/app/outputs.py), plus a one-line summary on stdout.
 
     simulate scenes/disc_in_bowl.toml --duration 2 --method rk4 --out out/disc_in_bowl
+    python -m runtime scenes/disc_in_bowl.toml          # the same; --out defaults to out/<scene>
+
+What it promises (docs/bad-input.md lists each case and its message):
+
+- bad input (a missing or invalid scene file, a number out of range, an unknown method, an
+  output folder that would be overwritten, cannot be written or is in use by another run) is
+  one line on stderr naming the flag or path, exit status 2, checked *before* the run;
+- a run that fails part-way (:class:`runtime.SimulationError`) still writes what it recorded,
+  exit status 1;
+- Ctrl-C (exit 130) or SIGTERM (143) at any point prints one line, never a traceback, and leaves
+  the output folder as it was (runtime/app/output_dir.py);
+- names from the scene file are printed with control characters escaped (runtime/app/text.py).
+
+Only the standard library is imported at the top, so Ctrl-C during start-up is caught too.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
+import re
+import signal
 import sys
 import time
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
-import numpy as np
+from runtime.app.text import folder_name, terminal_safe
 
-from runtime.step.integrators import METHODS
+__all__ = ["main"]
 
-__all__ = ["OUTPUT_FILES", "ProgressBar", "main", "write_outputs"]
-
-TRAJECTORY, PLOT, ANIMATION, SUMMARY = (
-    "trajectory.npz",
-    "energy_forces.png",
-    "animation.gif",
-    "summary.json",
-)
-OUTPUT_FILES = (TRAJECTORY, PLOT, ANIMATION, SUMMARY)
 PROG = "simulate"
+TIME_RANGE = (1e-50, 1e50)  # s: the scene format's range for times (docs/scene-format.md)
+FPS_RANGE = (0.01, 1000.0)  # frames per simulated second (a GIF delay is at most 655 s)
+SIZE_RANGE = (64, 4096)  # pixels per side of the animation
+DPI_RANGE = (10.0, 600.0)
 
 
 class UsageError(Exception):
     """Bad input from the user: reported in one line, exit status 2."""
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, handled like Ctrl-C (clean-up runs) but with exit status 143."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -52,228 +59,131 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(f"{message} (see {self.prog} --help)")
 
 
-def _parser() -> argparse.ArgumentParser:
+def _parser(prog: str) -> argparse.ArgumentParser:
+    from runtime.step.integrators import METHODS
+
     parser = _Parser(
-        prog=PROG,
+        prog=prog,
         description="Run a 2-D rigid-body scene and write trajectory.npz, energy_forces.png, "
         "animation.gif and summary.json into --out DIR.",
     )
-    parser.add_argument("scene", metavar="SCENE.toml", help="scene file (docs/scene-format.md)")
-    parser.add_argument(
-        "--duration", type=float, metavar="S", help="simulated time in s (default: the scene's)"
-    )
-    parser.add_argument(
-        "--dt", type=float, metavar="S", help="time step in s (default: the scene's)"
-    )
-    parser.add_argument(
-        "--method", metavar="|".join(METHODS), help="integrator (default: the scene's)"
-    )
-    parser.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    parser.add_argument(
-        "--force", action="store_true", help="write into DIR even if it is not empty"
-    )
-    parser.add_argument(
-        "--fps", type=float, default=30.0, help="animation frames per simulated second (default 30)"
-    )
-    parser.add_argument(
-        "--max-penetration",
-        metavar="X|off",
-        default="0.01",
+    add = parser.add_argument
+    add("scene", metavar="SCENE.toml", help="scene file (docs/scene-format.md)")
+    add("--duration", metavar="S", help="simulated time in s (default: the scene's)")
+    add("--dt", metavar="S", help="time step in s (default: the scene's)")
+    add("--method", metavar="|".join(METHODS), help="integrator (default: the scene's)")
+    add("--out", metavar="DIR", help="output directory (default: out/<scene name>)")
+    add("--force", action="store_true", help="write into DIR even if it is not empty")
+    add("--max-penetration", metavar="X|off", default="0.01",
         help="stop when two bodies overlap by more than X times the smaller one's size "
-        "(default 0.01; runtime.Guards)",
-    )
-    parser.add_argument(
-        "--max-energy-growth",
-        metavar="X|off",
-        default="0.5",
+        "(default 0.01; runtime.Guards)")  # fmt: skip
+    add("--max-energy-growth", metavar="X|off", default="0.5",
         help="stop when the energy rises by more than X times the scene's energy scale "
-        "(default 0.5; runtime.Guards)",
+        "(default 0.5; runtime.Guards)")  # fmt: skip
+    add("--csv", action="store_true", help="also write poses.csv (t and every body's pose)")
+    add("--no-gif", action="store_true", help="do not write animation.gif")
+    add("--mp4", action="store_true", help="also write animation.mp4 (needs ffmpeg on PATH)")
+    add("--fps", metavar="F", default="30",
+        help="animation frames per simulated second (default 30; played at F, at most 50 per "
+        "second: above, in slow motion)")  # fmt: skip
+    add(
+        "--size",
+        metavar="WxH",
+        default="288x288",
+        help="animation size in pixels (default 288x288)",
     )
-    parser.add_argument("--no-gif", action="store_true", help="do not write animation.gif")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add(
+        "--dpi",
+        metavar="D",
+        default="72",
+        help="animation dots per inch: text and line scale (default 72)",
+    )
+    add("--no-arrows", action="store_true", help="animation: no contact-normal arrows")
+    add("--quiet", action="store_true", help="no progress output")
     return parser
-
-
-# -- progress -------------------------------------------------------------------------------------
-
-
-class ProgressBar:
-    """A one-line text bar on ``stream`` fed by the ``progress`` callback of ``simulate``.
-
-    It stays silent for the first ``delay`` seconds of wall time, so short runs print nothing,
-    and redraws at most every ``interval`` seconds."""
-
-    def __init__(
-        self, stream: TextIO, *, delay: float = 2.0, interval: float = 0.2, width: int = 30
-    ) -> None:
-        self.stream = stream
-        self.delay, self.interval, self.width = delay, interval, width
-        self.start = time.perf_counter()
-        self.last_draw = -math.inf
-        self.drawn = False
-
-    def __call__(self, fraction: float) -> None:
-        now = time.perf_counter()
-        elapsed = now - self.start
-        if elapsed < self.delay or now - self.last_draw < self.interval:
-            return
-        self.last_draw = now
-        fraction = min(max(float(fraction), 0.0), 1.0)
-        filled = int(round(self.width * fraction))
-        left = elapsed * (1.0 - fraction) / fraction if fraction > 0 else math.inf
-        eta = f"~{left:.0f} s left" if math.isfinite(left) else ""
-        bar = "#" * filled + "." * (self.width - filled)
-        self.stream.write(f"\r[{bar}] {100 * fraction:5.1f}%  {elapsed:.0f} s  {eta}   ")
-        self.stream.flush()
-        self.drawn = True
-
-    def close(self) -> None:
-        """Erase the bar (if one was drawn): the summary line that follows replaces it."""
-        if self.drawn:
-            self.stream.write("\r" + " " * (self.width + 40) + "\r")
-            self.stream.flush()
-            self.drawn = False
 
 
 # -- checks ---------------------------------------------------------------------------------------
 
 
+def _number(flag: str, text: str, low: float, high: float, unit: str = "") -> float:
+    """A number in [low, high] from the command line, or a UsageError naming the flag."""
+    what = f"{flag} must be a number from {low:g} to {high:g}{unit}"
+    try:
+        value = float(text)
+    except ValueError:
+        raise UsageError(f"{what}, got {text!r}") from None
+    if not (low <= value <= high):  # also NaN and inf
+        raise UsageError(f"{what}, got {text}")
+    return value
+
+
+def _guard_limit(flag: str, text: str) -> float | None:
+    """A guard's limit from the command line: a number > 0, or 'off' (None)."""
+    if text.strip().lower() == "off":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise UsageError(f"{flag} must be a number > 0 or 'off', got {text!r}")
+    return value
+
+
+def _size(text: str) -> tuple[int, int]:
+    match = re.fullmatch(r"\s*(\d{1,6})\s*[xX]\s*(\d{1,6})\s*", text)
+    low, high = SIZE_RANGE
+    if not match or not all(low <= int(v) <= high for v in match.groups()):
+        raise UsageError(
+            f"--size must be WIDTHxHEIGHT in pixels, each from {low} to {high}, got {text!r}"
+        )
+    return int(match[1]), int(match[2])
+
+
 def _check_arguments(args: argparse.Namespace) -> None:
-    if args.dt is not None and not (math.isfinite(args.dt) and args.dt > 0):
-        raise UsageError(f"--dt must be a finite number > 0, got {args.dt!r}")
-    if args.duration is not None and not (math.isfinite(args.duration) and args.duration > 0):
-        raise UsageError(f"--duration must be a finite number > 0, got {args.duration!r}")
+    """Numbers in range, a known method, valid guard limits: before anything is loaded."""
+    for flag in ("duration", "dt"):
+        text = getattr(args, flag)
+        if text is not None:
+            setattr(args, flag, _number(f"--{flag}", text, *TIME_RANGE, " s"))
+    from runtime.step.integrators import METHODS
+
     if args.method is not None:
         args.method = args.method.lower()
         if args.method not in METHODS:
             raise UsageError(
                 f"--method: unknown method {args.method!r}; choose one of {', '.join(METHODS)}"
             )
-    if not (math.isfinite(args.fps) and args.fps > 0):
-        raise UsageError(f"--fps must be a finite number > 0, got {args.fps!r}")
-    for option in ("max_penetration", "max_energy_growth"):
-        setattr(args, option, _guard_limit(option, getattr(args, option)))
-
-
-def _guard_limit(option: str, text: str) -> float | None:
-    """A guard's limit from the command line: a number > 0, or 'off' (None)."""
-    if text.strip().lower() == "off":
-        return None
-    flag = "--" + option.replace("_", "-")
-    try:
-        value = float(text)
-    except ValueError:
-        raise UsageError(f"{flag} must be a number > 0 or 'off', got {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise UsageError(f"{flag} must be a number > 0 or 'off', got {text!r}")
-    return value
-
-
-def _check_output(out: Path, force: bool) -> None:
-    if out.exists() and not out.is_dir():
-        raise UsageError(f"output {str(out)!r} exists and is not a directory")
-    if out.is_dir() and any(out.iterdir()) and not force:
-        raise UsageError(
-            f"output directory {str(out)!r} is not empty; use --force to overwrite its files"
-        )
-    try:  # now, not after a long run
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UsageError(f"cannot create output directory {str(out)!r}: {exc.strerror}") from None
+    args.fps = _number("--fps", args.fps, *FPS_RANGE)
+    args.dpi = _number("--dpi", args.dpi, *DPI_RANGE)
+    args.size = _size(args.size)
+    for flag in ("--max-penetration", "--max-energy-growth"):
+        name = flag[2:].replace("-", "_")
+        setattr(args, name, _guard_limit(flag, getattr(args, name)))
 
 
 def _load(path: str) -> Any:
     import runtime
 
-    if not Path(path).exists():
+    file = Path(path)
+    if not file.exists():
         raise UsageError(f"scene file {path!r} not found")
-    if Path(path).is_dir():
+    if file.is_dir():
         raise UsageError(f"scene file {path!r} is a directory")
+    if not file.is_file():
+        raise UsageError(f"scene file {path!r} is not a regular file")
     try:
         return runtime.load_scene(path)
     except runtime.SceneError as exc:
         raise UsageError(str(exc)) from None
 
 
-# -- outputs --------------------------------------------------------------------------------------
+# -- the run --------------------------------------------------------------------------------------
 
 
-def _finite(x: float) -> float | None:
-    """JSON has no NaN or infinity: those become null."""
-    x = float(x)
-    return x if math.isfinite(x) else None
-
-
-def trajectory_arrays(scene: Any, run: Any) -> dict[str, np.ndarray]:
-    """``run.arrays()`` with shapes kept for an empty (failed at once) run, plus the body names,
-    which bodies are fixed, and the time step."""
-    n = len(scene.bodies)
-    arrays = dict(run.arrays())
-    if len(run.t) == 0:
-        arrays["poses"] = np.zeros((0, n, 3))
-        arrays["velocities"] = np.zeros((0, n, 3))
-        arrays["momentum"] = np.zeros((0, 2))
-    arrays["body_names"] = np.array([b.name for b in scene.bodies], dtype=str)
-    arrays["fixed"] = np.array([b.fixed for b in scene.bodies], dtype=bool)
-    arrays["dt"] = np.array(run.dt)
-    return arrays
-
-
-def summary(scene: Any, run: Any, wall_time: float, error: str | None = None) -> dict[str, Any]:
-    """The run's key numbers (what summary.json holds)."""
-    t = np.asarray(run.t, dtype=float)
-    energy = np.asarray(run.energy, dtype=float)
-    steps = int(round(t[-1] / run.dt)) if len(t) else 0
-    drift = energy - energy[0] if len(energy) else np.zeros(0)
-    return {
-        "scene": scene.name,
-        "scene_file": str(scene.source),
-        "method": run.method,
-        "dt": run.dt,
-        "duration": float(t[-1]) if len(t) else 0.0,
-        "steps": steps,
-        "recorded_steps": len(t),
-        "bodies": [b.name for b in scene.bodies],
-        "wall_time": wall_time,
-        "steps_per_second": _finite(steps / wall_time) if wall_time > 0 else None,
-        "rhs_evaluations": int(run.rhs_evaluations),
-        "initial_energy": _finite(energy[0]) if len(energy) else None,
-        "energy_drift": _finite(drift[-1]) if len(drift) else None,
-        "max_abs_energy_drift": _finite(np.max(np.abs(drift))) if len(drift) else None,
-        "max_penetration": _finite(run.max_penetration),
-        "status": "failed" if error else "ok",
-        "error": error,
-    }
-
-
-def write_outputs(
-    scene: Any,
-    run: Any,
-    out: Path,
-    *,
-    wall_time: float,
-    fps: float,
-    gif: bool,
-    error: str | None = None,
-) -> dict[str, Any]:
-    """Write trajectory.npz, summary.json, energy_forces.png and (``gif``) animation.gif into
-    ``out``; files of an earlier run there are replaced or, if not produced now, removed."""
-    from runtime.app import plotting
-
-    out.mkdir(parents=True, exist_ok=True)
-    for name in OUTPUT_FILES:
-        (out / name).unlink(missing_ok=True)
-    np.savez(out / TRAJECTORY, **trajectory_arrays(scene, run))
-    info = summary(scene, run, wall_time, error)
-    names = [b.name for b in scene.bodies]
-    if len(run.t):
-        plotting.plot_energy_forces(run, names, out / PLOT)
-        if gif:
-            info["gif_frames"] = plotting.save_animation(scene, run, out / ANIMATION, fps=fps)
-    info["files"] = sorted(p.name for p in out.iterdir() if p.name in OUTPUT_FILES)
-    info["files"] = sorted({*info["files"], SUMMARY})
-    (out / SUMMARY).write_text(json.dumps(info, indent=2, allow_nan=False) + "\n")
-    return info
+def _say(stream: TextIO, prog: str, text: str) -> None:
+    print(terminal_safe(f"{prog}: {text}"), file=stream)
 
 
 def _one_line(info: dict[str, Any], out: Path) -> str:
@@ -281,74 +191,128 @@ def _one_line(info: dict[str, Any], out: Path) -> str:
         return "n/a" if x is None else f"{x:.3g} {unit}"
 
     rate = info["steps_per_second"]
-    return (
+    if info["impacts"]:
+        energy = (
+            f"energy lost at {info['impacts']} impacts {num(info['impact_energy_loss'], 'J')}, "
+            f"numerical drift {num(info['numerical_drift'], 'J')}"
+        )
+    else:
+        energy = f"energy drift {num(info['energy_drift'], 'J')}"
+    return terminal_safe(
         f"{info['scene']}: {info['method']}, dt = {info['dt']:g} s, {info['steps']} steps "
         f"({info['duration']:g} s simulated) in {info['wall_time']:.2f} s"
-        f"{f' ({rate:.0f} steps/s)' if rate else ''}; energy drift {num(info['energy_drift'], 'J')}, "
+        f"{f' ({rate:.0f} steps/s)' if rate else ''}; {energy}, "
         f"max penetration {num(info['max_penetration'], 'm')} -> {out}"
     )
 
 
-# -- main -----------------------------------------------------------------------------------------
-
-
-def _error(message: str, stream: TextIO) -> None:
-    print(f"{PROG}: error: {message}", file=stream)
-
-
-def run_command(args: argparse.Namespace) -> int:
+def _simulate(scene: Any, duration: float, dt: float, method: str, args: argparse.Namespace,
+              prog: str) -> tuple[Any, str | None, float]:  # fmt: skip
+    """Run the scene with progress on stderr: (run, the SimulationError's message or None, wall
+    time). A run that fails part-way returns what it recorded."""
     import runtime
+    from runtime.app.progress import ProgressBar, ProgressLines
 
-    _check_arguments(args)
-    scene = _load(args.scene)
-    duration = scene.simulation.duration if args.duration is None else args.duration
-    dt = scene.simulation.dt if args.dt is None else args.dt
-    if dt > duration:
-        raise UsageError(f"--dt {dt:g} s is longer than the duration {duration:g} s")
-    out = Path(args.out)
-    _check_output(out, args.force)
-
-    show = not args.quiet and sys.stderr.isatty()
-    bar = ProgressBar(sys.stderr) if show else None
+    bar = None
+    if not args.quiet:
+        tty = sys.stderr.isatty()
+        bar = ProgressBar(sys.stderr) if tty else ProgressLines(sys.stderr, duration, prog=prog)
     start = time.perf_counter()
-    error = None
     try:
         guards = runtime.Guards(args.max_penetration, args.max_energy_growth)
-        run = runtime.simulate(scene, duration, dt, args.method, progress=bar, guards=guards)
+        run = runtime.simulate(scene, duration, dt, method, progress=bar, guards=guards)
+        return run, None, run.wall_time if run.wall_time > 0 else time.perf_counter() - start
     except runtime.SimulationError as exc:
-        run, error = exc.run, str(exc)
+        return exc.run, str(exc), time.perf_counter() - start
     except ValueError as exc:  # the engine's own argument checks
         raise UsageError(str(exc)) from None
     finally:
         if bar is not None:
             bar.close()
-    wall = run.wall_time if error is None and run.wall_time > 0 else time.perf_counter() - start
-    info = write_outputs(
-        scene, run, out, wall_time=wall, fps=args.fps, gif=not args.no_gif, error=error
-    )
+
+
+def run_command(args: argparse.Namespace, prog: str = PROG) -> int:
+    """Check everything, run, write the files; the exit status (bad input raises UsageError)."""
+    _check_arguments(args)
+    if args.mp4:
+        from runtime.app.animation import FfmpegError, ffmpeg
+
+        try:
+            ffmpeg()
+        except FfmpegError as exc:
+            raise UsageError(str(exc)) from None
+    scene = _load(args.scene)
+    duration = scene.simulation.duration if args.duration is None else args.duration
+    dt = scene.simulation.dt if args.dt is None else args.dt
+    method = scene.simulation.method if args.method is None else args.method
+    if dt > duration:
+        raise UsageError(f"--dt {dt:g} s is longer than the duration {duration:g} s")
+    steps = int(round(duration / dt))
+    out = Path(args.out or Path("out") / folder_name(scene.name, Path(args.scene).stem))
+
+    from runtime.app import estimate
+    from runtime.app.animation import Look
+    from runtime.app.output_dir import OutputDir, OutputError
+    from runtime.app.outputs import OUTPUT_FILES, Options, write_outputs
+
+    look = Look(*args.size, dpi=args.dpi, fps=args.fps, arrows=not args.no_arrows)
+    options = Options(gif=not args.no_gif, mp4=args.mp4, csv=args.csv, look=look)
+    try:
+        with OutputDir(out, force=args.force, owned=OUTPUT_FILES) as output:
+            if output.stale_lock:
+                _say(
+                    sys.stderr,
+                    prog,
+                    f"note: took over the lock of a run that ended ({output.stale_lock})",
+                )
+            warning = estimate.warning(estimate.probe(scene, steps, dt, method), len(scene.bodies))
+            if warning:
+                _say(sys.stderr, prog, f"warning: {warning}")
+            run, error, wall = _simulate(scene, duration, dt, method, args, prog)
+            info = write_outputs(scene, run, output.staging, options, wall_time=wall, error=error)
+            output.commit(info["files"])
+    except OutputError as exc:
+        raise UsageError(str(exc)) from None
+    except KeyboardInterrupt as exc:
+        what = "terminated" if isinstance(exc, Terminated) else "interrupted"
+        raise type(exc)(f"{what}; {str(out)!r} keeps its previous contents") from None
+    status = 0
+    if "mp4_error" in info:
+        _say(sys.stderr, prog, f"error: animation.mp4 not written: {info['mp4_error']}")
+        status = 1
     if error is not None:
-        _error(f"simulation failed: {error}", sys.stderr)
-        print(
-            f"{PROG}: wrote the {len(run.t)} recorded steps before the failure to {out}",
-            file=sys.stderr,
-        )
-        print(_one_line(info, out))
-        return 1
+        _say(sys.stderr, prog, f"error: simulation failed: {error}")
+        _say(sys.stderr, prog, f"wrote the {len(run.t)} recorded steps before the failure to {out}")
+        status = 1
     print(_one_line(info, out))
-    return 0
+    return status
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+# -- main -----------------------------------------------------------------------------------------
+
+
+def _terminate(_signum: int, _frame: Any) -> None:
+    raise Terminated("terminated")
+
+
+def main(argv: Sequence[str] | None = None, prog: str = PROG) -> int:
     """Entry point of the ``simulate`` console script; returns the exit status."""
     try:
-        args = _parser().parse_args(argv)
-        return run_command(args)
+        previous = signal.signal(signal.SIGTERM, _terminate)
+    except ValueError:  # not the main thread: leave SIGTERM alone
+        previous = None
+    try:
+        args = _parser(prog).parse_args(argv)
+        return run_command(args, prog)
     except UsageError as exc:
-        _error(str(exc), sys.stderr)
+        _say(sys.stderr, prog, f"error: {exc}")
         return 2
-    except KeyboardInterrupt:
-        _error("interrupted", sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        _say(sys.stderr, prog, str(exc) or "interrupted")
+        return 143 if isinstance(exc, Terminated) else 130
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from runtime.collide.contact_set import Contacts, concatenate
+from runtime.collide.contact_set import Contacts
 from runtime.solve.forces import Stabilisation
 from runtime.step.guards import Guards
 from runtime.step.world import (
@@ -46,7 +46,7 @@ class Run:
     < 0 is a penetration), impact_losses (K,) (kinetic energy taken out by impacts since the
     record before; 0 at the first), impact_times (I,) (located impacts);
     contacts[k] (runtime.collide.contact_set.Contacts) and contact_forces[k] (N): the resting
-    contacts at record k and their forces. :meth:`contact_table` gives them flat.
+    contacts at record k and their forces (runtime.app.contact_table gives them as one table).
     """
 
     scene_name: str
@@ -70,25 +70,8 @@ class Run:
     def max_penetration(self) -> float:
         return max(0.0, -float(np.min(self.min_gap, initial=0.0)))
 
-    def contact_table(self) -> dict[str, np.ndarray]:
-        """Every recorded contact as one row: step index, bodies, case id, point, normal, gap
-        and force (arrays of equal length)."""
-        sizes = [len(c) for c in self.contacts]
-        every = concatenate(self.contacts)
-        forces = np.concatenate(self.contact_forces) if self.contact_forces else np.zeros(0)
-        return {
-            "step": np.repeat(np.arange(len(sizes)), sizes),
-            "body1": every.body1,
-            "body2": every.body2,
-            "case": every.case,
-            "point": every.point,
-            "normal": every.normal,
-            "gap": every.gap,
-            "force": forces,
-        }
-
     def arrays(self) -> dict[str, np.ndarray]:
-        """The run as arrays (for .npz), the contacts flat (``contact_*``)."""
+        """The run's per-record arrays (for .npz); the contacts: runtime.app.contact_table."""
         out = {
             "t": self.t,
             "poses": self.poses,
@@ -100,7 +83,6 @@ class Run:
             "impact_times": self.impact_times,
             "total_contact_force": np.array([float(np.sum(f)) for f in self.contact_forces]),
         }
-        out.update({f"contact_{k}": v for k, v in self.contact_table().items()})
         return out
 
 

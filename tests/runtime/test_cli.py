@@ -1,4 +1,4 @@
-"""Tests of the ``simulate`` command (runtime/cli.py) and its pictures (runtime/plotting.py).
+"""Tests of the ``simulate`` command (runtime/app/cli.py) and its pictures (runtime/app/).
 
 Why: the command is how people run scenes, so its files must be valid and consistent with each
 other, it must never overwrite results by accident, and bad input must give one clear line and
@@ -20,7 +20,7 @@ import pytest
 from PIL import Image
 
 import runtime
-from runtime.app import cli, plotting
+from runtime.app import animation, cli, plotting, progress
 from runtime.model.shapes import Arc, Segment, bowl
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
@@ -56,6 +56,7 @@ position = [0.4, 0.3]
 angle = 0.3
 """
 
+DEFAULT_FILES = ("trajectory.npz", "energy_forces.png", "animation.gif", "summary.json")
 NPZ_KEYS = {"t", "poses", "velocities", "energy", "momentum", "min_gap", "total_contact_force"}
 
 
@@ -87,7 +88,7 @@ def snapshot(directory: Path) -> dict[str, bytes]:
 def test_run_writes_all_files_and_one_summary_line(small_run):
     status, out_text, err_text, out = small_run
     assert status == 0, err_text
-    assert sorted(p.name for p in out.iterdir()) == sorted(cli.OUTPUT_FILES)
+    assert sorted(p.name for p in out.iterdir()) == sorted(DEFAULT_FILES)
     lines = out_text.strip().splitlines()
     assert len(lines) == 1 and "small" in lines[0] and "steps" in lines[0]
     assert err_text == ""  # stderr is not a TTY under pytest: no progress bar
@@ -146,11 +147,11 @@ def test_png_and_gif_are_valid(small_run):
 
 def test_frame_indices_subsample_and_cap():
     t = np.arange(3001) * 1e-3  # 3 s at 1 ms
-    frames = plotting.frame_indices(t, fps=30)
+    frames = animation.frame_indices(t, fps=30)
     assert frames[0] == 0 and frames[-1] == 3000
     assert len(frames) == 91  # 30 per simulated second, both ends
-    assert len(plotting.frame_indices(t, fps=1000)) == plotting.MAX_FRAMES
-    assert len(plotting.frame_indices(t[:5], fps=1)) == 2  # always first and last
+    assert len(animation.frame_indices(t, fps=1000)) == animation.MAX_FRAMES
+    assert len(animation.frame_indices(t[:5], fps=1)) == 2  # always first and last
 
 
 def test_edge_points_follow_arcs_and_concave_arcs():
@@ -166,13 +167,13 @@ def test_edge_points_follow_arcs_and_concave_arcs():
 
 def test_progress_bar_draws_and_erases_itself():
     stream = io.StringIO()
-    bar = cli.ProgressBar(stream, delay=0.0, interval=0.0, width=10)
+    bar = progress.ProgressBar(stream, delay=0.0, interval=0.0, width=10)
     bar(0.5)
     assert "[#####.....]" in stream.getvalue() and "50.0%" in stream.getvalue()
     bar.close()
     assert stream.getvalue().endswith("\r") and "\n" not in stream.getvalue()
     quiet = io.StringIO()
-    late = cli.ProgressBar(quiet, delay=60.0)  # short runs print nothing
+    late = progress.ProgressBar(quiet, delay=60.0)  # short runs print nothing
     late(0.5)
     late.close()
     assert quiet.getvalue() == ""
@@ -189,10 +190,10 @@ def test_view_follows_a_small_body_on_a_long_floor():
             ]
         }
     )  # fmt: skip
-    shapes = [plotting.outline(b.shape) for b in scene.bodies]
-    centre, half = plotting._view(scene, shapes, [scene.poses()])
-    assert half == pytest.approx(0.53 * 0.6)  # three times the disc's size
-    assert centre == pytest.approx([3.0, 0.1])
+    view = animation.scene_view(scene, scene.poses()[None])
+    # three times the disc's size, and a margin
+    assert view.half_x == view.half_y == pytest.approx(0.3 / (1 - 2 * animation.MARGIN))
+    assert view.centre == pytest.approx([3.0, 0.1])
 
 
 # -- overwriting ----------------------------------------------------------------------------------
@@ -311,10 +312,14 @@ def test_output_path_that_is_a_file(tmp_path, capsys):
     assert target.read_text() == "x"
 
 
-def test_missing_out_is_a_usage_error(tmp_path, capsys):
-    assert cli.main([str(write_scene(tmp_path))]) == 2
-    err = capsys.readouterr().err
-    assert "--out" in err and len(err.strip().splitlines()) == 1
+def test_out_defaults_to_out_slash_scene_name(tmp_path, capsys, monkeypatch):
+    """No --out: out/<scene name> under the working directory, the name made a safe folder."""
+    scene = write_scene(tmp_path, SMALL_SCENE.replace('name = "small"', 'name = "../up/a b"'))
+    monkeypatch.chdir(tmp_path)
+    assert cli.main([str(scene), "--duration", "0.005", "--no-gif"]) == 0
+    assert capsys.readouterr().out.rstrip().endswith("-> out/up_a_b")
+    assert json.loads((tmp_path / "out" / "up_a_b" / "summary.json").read_text())["steps"] == 5
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "small.toml"]
 
 
 def test_simulation_error_writes_partial_run_and_exits_1(tmp_path, capsys, monkeypatch):
@@ -354,7 +359,7 @@ def test_every_shipped_scene_end_to_end(tmp_path, capsys, path):
     status = cli.main(args if gif else [*args, "--no-gif"])
     captured = capsys.readouterr()
     assert status == 0, captured.err
-    expected = set(cli.OUTPUT_FILES) - (set() if gif else {"animation.gif"})
+    expected = set(DEFAULT_FILES) - (set() if gif else {"animation.gif"})
     assert {p.name for p in out.iterdir()} == expected
     scene = runtime.load_scene(path)
     with np.load(out / "trajectory.npz") as data:

@@ -41,21 +41,18 @@ def outran(start: np.ndarray, end: np.ndarray, radii: np.ndarray, margin: np.nda
 
 
 def swept_contacts(scene, poses: np.ndarray, margin: np.ndarray) -> list:
-    """Contacts (runtime.collide.contacts.Contact) at ``poses`` whose gap is at most the scene's contact
-    tolerance plus the margins of their two bodies."""
-    base = scene.contact_tolerance
-    widest = float(np.max(margin, initial=0.0))
-    found = scene.find_contacts(poses, base + 2.0 * widest)
-    if widest == 0.0:
-        return found
-    return [c for c in found if c.gap <= base + margin[c.body1] + margin[c.body2]]
+    """Contacts at ``poses`` whose gap is at most the scene's contact tolerance plus the margins
+    of their two bodies.  Transitional: as runtime.collide.contacts.Contact objects, for the
+    current engine (``scene.contacts(poses, margins=margin)`` gives them as Contacts)."""
+    return _contacts.contact_objects(scene.contacts(poses, margins=margin))
 
 
 def pair_contacts(
     shapes: list, fixed: list[bool], i: int, j: int, poses: np.ndarray, tolerance: float
 ) -> list:
-    """The contacts between bodies i < j only, with the scene's body indices."""
-    found = _contacts.find_contacts(
+    """The contacts between bodies i < j only, with the scene's body indices.  Transitional:
+    Contact objects, for the current engine."""
+    found = _contacts.find_contact_objects(
         [shapes[i], shapes[j]], poses[[i, j]], [fixed[i], fixed[j]], tolerance
     )
     index = (i, j)

@@ -304,8 +304,8 @@ SCENE_CASES: list[Case] = [
          scene_text(shape=GRAIN, position="[0.0, 0.01]"),
          ("[scene]: field 'contact_tolerance'", "0.0001 m (the default) is too large for "
           "body 'disc' (#2)", "set it to at most")),
-    Case("tolerances", "overlap tolerance as large as a body", "overlap_tolerance = 0.05",
-         scene_text(scene="overlap_tolerance = 0.05"),
+    Case("tolerances", "overlap tolerance as large as a body", "overlap_tolerance = 0.06",
+         scene_text(scene="overlap_tolerance = 0.06"),
          ("[scene]: field 'overlap_tolerance'", "would let bodies start that deep inside")),
     # the file itself
     Case("file", "not UTF-8", "a Latin-1 byte in a comment",

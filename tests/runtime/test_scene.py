@@ -389,7 +389,7 @@ def test_overlap_between_two_moving_bodies(tmp_path):
         (
             '[[body]]\nname = "box"\nfixed = true\nposition = [0.0, 1.0]\n'
             'shape = { type = "box_walls", width = 1.0, height = 1.0 }\n'
-            + disc_toml().replace("[0.0, 0.5]", "[0.5, 1.5]"),
+            + disc_toml().replace("[0.0, 0.5]", "[0.52, 1.5]"),  # centre beyond the wall
             ["body 'box' (#2) and body 'disc' (#3)", "overlap by at least 0.0"],
         ),
     ],

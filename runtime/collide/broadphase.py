@@ -38,6 +38,8 @@ def sweep(x, y, reach, fixed):
     """(P, 2) int64 pairs (i < j), sorted, of the circles (centres x, y; radii ``reach``) that
     overlap or touch, without pairs of two fixed bodies."""
     n = len(reach)
+    if n < 2:
+        return np.zeros((0, 2), dtype=np.int64)
     along, across = (x, y) if np.ptp(x) >= np.ptp(y) else (y, x)
     order = np.argsort(along - reach, kind="mergesort")
     a, c, r, f = along[order], across[order], reach[order], fixed[order]  # contiguous, sorted

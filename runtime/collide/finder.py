@@ -197,7 +197,7 @@ class ContactFinder:
             raise ValueError(f"margins must have shape ({self.n},), got {m.shape}")
         if not np.all(np.isfinite(m) & (m >= 0)):
             bad = int(np.argwhere(~(np.isfinite(m) & (m >= 0)))[0][0])
-            raise ValueError(f"margins must be finite and >= 0; margins[{bad}] = {m[bad]!r}")
+            raise ValueError(f"margins must be finite and >= 0; margins[{bad}] = {float(m[bad])!r}")
         return m
 
 

@@ -26,13 +26,13 @@ body 1.  Positions are relative to the pair's higher-index body j, as the kernel
 them (``x1 - x2`` first), so they keep their precision far from the origin.
 
 Candidates are rows of one float table (:data:`COLUMNS`), contiguous per pair, pairs sorted.
-Per pair the helpers share ``ctx`` = (tolerance, slack, i, j, offset of i, offset of j, pair
-number, angle of i, angle of j, i closed?, j closed?) and return the running count.
+The helpers of a pair share a :class:`PairContext` and return the running count.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -83,6 +83,24 @@ CIRCLE_EDGE, CIRCLE_CIRCLE = CASE_ID["circle_edge"], CASE_ID["circle_circle"]
 PAIR, CASE, BODY1, BODY2, KIND1, INDEX1, KIND2, INDEX2, G = range(9)  # G: 7 geometry columns
 SCREEN, PX, PY, NX, NY, END_ANGLE, WAY_OUT = range(G + 7, G + 14)
 COLUMNS = G + 14
+
+
+class PairContext(NamedTuple):
+    """What the helpers of one pair of bodies i < j share (all floats, one tuple for numba)."""
+
+    tolerance: float  # the pair's, widened by slack: what the screening gaps are held to
+    slack: float  # SCREEN_SLACK times the pair's size
+    i: float
+    j: float
+    oix: float  # offset of body i's centre of mass from body j's (positions are relative to j)
+    oiy: float
+    number: float  # of the pair, in the broad phase's order
+    thi: float  # angles of the bodies
+    thj: float
+    closed_i: float  # 1.0: the body is closed (a vertex can be inside it)
+    closed_j: float
+
+
 # the geometry written below: feature 1 from column 0, feature 2 from column 3
 assert GEOMETRY_COLUMNS["vertex_edge"] == dict(px1=0, py1=1, ex2=3, ey2=4, nx2=5, ny2=6)
 assert GEOMETRY_COLUMNS["circle_circle"] == dict(cx1=0, cy1=1, r1=2, cx2=3, cy2=4, r2=5)
@@ -96,7 +114,7 @@ def _emit(cand, k, ctx, case, b1, kind1, index1, b2, kind2, index2, g, gap, p, n
     count goes on, so the caller can grow the table and search again)."""
     if k < len(cand):
         row = cand[k]
-        row[PAIR], row[CASE], row[BODY1], row[BODY2] = ctx[8], case, b1, b2
+        row[PAIR], row[CASE], row[BODY1], row[BODY2] = ctx.number, case, b1, b2
         row[KIND1], row[INDEX1], row[KIND2], row[INDEX2] = kind1, index1, kind2, index2
         for c in range(7):
             row[G + c] = g[c]
@@ -107,7 +125,7 @@ def _emit(cand, k, ctx, case, b1, kind1, index1, b2, kind2, index2, g, gap, p, n
 
 @leaf
 def _offset(ctx, b):
-    return (ctx[4], ctx[5]) if b == ctx[2] else (ctx[6], ctx[7])
+    return (ctx.oix, ctx.oiy) if b == ctx.i else (0.0, 0.0)
 
 
 @leaf
@@ -163,9 +181,9 @@ def _way_out(rows, start, world, b, o, px, py):
 @leaf
 def _vertex(rows, start, world, ctx, b2, gap, px, py, end_angle):
     """(end angle, way out) of a vertex candidate: the way out only where it can penetrate."""
-    closed = ctx[11] if b2 == ctx[2] else ctx[12]
+    closed = ctx.closed_i if b2 == ctx.i else ctx.closed_j
     out = math.nan
-    if closed > 0 and gap <= ctx[1]:
+    if closed > 0 and gap <= ctx.slack:
         out = _way_out(rows, start, world, b2, _offset(ctx, b2), px, py)
     return end_angle, out
 
@@ -173,7 +191,7 @@ def _vertex(rows, start, world, ctx, b2, gap, px, py, end_angle):
 @leaf
 def _points(rows, start, world, cand, k, ctx, b1, b2):
     """Corners (and smooth ends) of body 1 on the edges of body 2."""
-    tol, (o1x, o1y), (o2x, o2y) = ctx[0], _offset(ctx, b1), _offset(ctx, b2)
+    tol, (o1x, o1y), (o2x, o2y) = ctx.tolerance, _offset(ctx, b1), _offset(ctx, b2)
     c0, c1, e0, e1 = (
         start[b1, CORNERS],
         start[b1 + 1, CORNERS],
@@ -224,7 +242,7 @@ def _points(rows, start, world, cand, k, ctx, b1, b2):
             )
     if c1 == c0:
         return k
-    th2 = ctx[9] if b2 == ctx[2] else ctx[10]
+    th2 = ctx.thi if b2 == ctx.i else ctx.thj
     for e in range(start[b2, ELLIPSES], start[b2 + 1, ELLIPSES]):
         f2 = ovals.oval(rows[e], th2, o2x, o2y)
         reach = max(f2[2], f2[3]) + tol
@@ -247,7 +265,7 @@ def _corner_arc(rows, start, world, cand, k, ctx, b1, c, b2, circle, geometry, i
     vx, vy = px - cx, py - cy
     dist, sig = math.hypot(vx, vy), (1.0 if r > 0 else -1.0)
     gap = sig * dist - r
-    if gap > ctx[0] or dist == 0.0 or not _in_span(vy, vx, a0, span):
+    if gap > ctx.tolerance or dist == 0.0 or not _in_span(vy, vx, a0, span):
         return k
     nx, ny = sig * vx / dist, sig * vy / dist
     if not _corner_ok(rows, world, c, -nx, -ny, r < 0):
@@ -269,7 +287,7 @@ def _corner_corner(rows, start, world, cand, k, ctx, one, two):
         for c2 in range(start[two, CORNERS], start[two + 1, CORNERS]):
             vx, vy = px - world[c2, X] - o2[0], py - world[c2, Y] - o2[1]
             gap = math.hypot(vx, vy)
-            if gap > ctx[0] or gap == 0.0:
+            if gap > ctx.tolerance or gap == 0.0:
                 continue
             nx, ny = vx / gap, vy / gap
             if _corner_ok(rows, world, c1, -nx, -ny, False) and _corner_ok(
@@ -286,7 +304,7 @@ def _corner_corner(rows, start, world, cand, k, ctx, one, two):
 def _curves_on_segments(rows, start, world, cand, k, ctx, b1, b2):
     """Convex arcs and ellipses (osculating circles) of body 1 on straight edges of body 2."""
     (o1x, o1y), (o2x, o2y) = _offset(ctx, b1), _offset(ctx, b2)
-    th1 = ctx[9] if b1 == ctx[2] else ctx[10]
+    th1 = ctx.thi if b1 == ctx.i else ctx.thj
     for s in range(start[b2, SEGMENTS], start[b2 + 1, SEGMENTS]):
         nx, ny = world[s, S_NX], world[s, S_NY]
         for a in range(start[b1, ARCS], start[b1 + 1, ARCS]):
@@ -298,7 +316,7 @@ def _curves_on_segments(rows, start, world, cand, k, ctx, b1, b2):
                 )
         for e in range(start[b1, ELLIPSES], start[b1 + 1, ELLIPSES]):
             qx, qy, t = ovals.support(ovals.oval(rows[e], th1, o1x, o1y), -nx, -ny)
-            if nx * (qx - world[s, X] - o2x) + ny * (qy - world[s, Y] - o2y) <= ctx[0]:
+            if nx * (qx - world[s, X] - o2x) + ny * (qy - world[s, Y] - o2y) <= ctx.tolerance:
                 circle, geometry = _osculating(rows[e], t, th1, o1x, o1y)
                 k = _circle_edge(rows, world, cand, k, ctx, b1, circle[:3], geometry, rows[e, L_INDEX],
                                  b2, s)  # fmt: skip
@@ -312,7 +330,7 @@ def _circle_edge(rows, world, cand, k, ctx, b1, centre, geometry, index1, b2, s)
     ax, ay, nx, ny = world[s, X] + o2x, world[s, Y] + o2y, world[s, S_NX], world[s, S_NY]
     gap = nx * (cx - ax) + ny * (cy - ay) - r
     u, slack = world[s, S_TX] * (cx - ax) + world[s, S_TY] * (cy - ay), SPAN_EPS * rows[s, S_LENGTH]
-    if gap > ctx[0] or not -slack <= u <= rows[s, S_LENGTH] + slack:
+    if gap > ctx.tolerance or not -slack <= u <= rows[s, S_LENGTH] + slack:
         return k
     g = geometry + (rows[s, X], rows[s, Y], rows[s, S_NX], rows[s, S_NY])
     return _emit(cand, k, ctx, CIRCLE_EDGE, b1, EDGE, index1, b2, EDGE, rows[s, S_INDEX], g, gap,
@@ -346,7 +364,7 @@ def _curves_on_curves(rows, start, world, cand, k, ctx, i, j, i_first):
     """Circular and elliptic edges of i against those of j: circle_circle contacts."""
     curves_i = start[i + 1, ARCS] - start[i, ARCS] + start[i + 1, ELLIPSES] - start[i, ELLIPSES]
     curves_j = start[j + 1, ARCS] - start[j, ARCS] + start[j + 1, ELLIPSES] - start[j, ELLIPSES]
-    oi, oj, thi, thj = (ctx[4], ctx[5]), (ctx[6], ctx[7]), ctx[9], ctx[10]
+    oi, oj, thi, thj = (ctx.oix, ctx.oiy), (0.0, 0.0), ctx.thi, ctx.thj
     for mi in range(curves_i):
         ri, arc_i, fi, ci = _curve(rows, start, world, i, mi, oi, thi)
         concave_i = arc_i and rows[ri, A_R] < 0
@@ -372,7 +390,7 @@ def _curves_on_curves(rows, start, world, cand, k, ctx, i, j, i_first):
             else:
                 reach1 = f1[2] if arc1 else max(f1[2], f1[3])
                 reach2 = f2[2] if arc2 else max(f2[2], f2[3])
-                if math.hypot(f1[0] - f2[0], f1[1] - f2[1]) > reach1 + reach2 + ctx[0]:
+                if math.hypot(f1[0] - f2[0], f1[1] - f2[1]) > reach1 + reach2 + ctx.tolerance:
                     continue
                 nx, ny = ovals.separation(f1, f2)
                 if not arc1:
@@ -392,7 +410,7 @@ def _arc_arc(cand, k, ctx, b1, c1, g1, index1, b2, c2, g2, index2):
     vx, vy = x1 - x2, y1 - y2
     dist, sig = math.hypot(vx, vy), (1.0 if r2 > 0 else -1.0)
     gap = sig * dist - r2 - r1
-    if gap > ctx[0] or dist == 0.0:
+    if gap > ctx.tolerance or dist == 0.0:
         return k
     nx, ny = sig * vx / dist, sig * vy / dist
     if not (_in_span(vy, vx, s2, w2) and _in_span(-ny, -nx, s1, w1)):
@@ -469,9 +487,9 @@ def find_candidates(poses, base, margins, rows, start, body, cand, kernel_inputs
     for p in range(len(pairs)):
         i, j = pairs[p, 0], pairs[p, 1]
         slack = SCREEN_SLACK * (body[i, RADIUS] + body[j, RADIUS])
-        ctx = (base + margins[i] + margins[j] + slack, slack, float(i), float(j),
-               poses[i, 0] - poses[j, 0], poses[i, 1] - poses[j, 1], 0.0, 0.0, float(p),
-               poses[i, 2], poses[j, 2], body[i, CLOSED], body[j, CLOSED])  # fmt: skip
+        oix, oiy = poses[i, 0] - poses[j, 0], poses[i, 1] - poses[j, 1]
+        ctx = PairContext(base + margins[i] + margins[j] + slack, slack, i, j, oix, oiy, p,
+                          poses[i, 2], poses[j, 2], body[i, CLOSED], body[j, CLOSED])  # fmt: skip
         i_first = not (body[i, FIXED] > 0 and body[j, FIXED] == 0)
         k = _pair(rows, start, world, cand, k, ctx, i, j, i_first)
     if k <= len(cand):

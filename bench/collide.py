@@ -113,7 +113,10 @@ def python_narrow_phase():
                 ["git", "show", f"{BEFORE}:runtime/collide/{name}.py"],
                 cwd=ROOT, capture_output=True, text=True, check=True,
             ).stdout  # fmt: skip
-            text = text.replace("from runtime.collide import narrowphase", "import before_narrowphase as narrowphase")
+            text = text.replace(
+                "from runtime.collide import narrowphase",
+                "import before_narrowphase as narrowphase",
+            )
             (folder / f"before_{name}.py").write_text(text)
     except (OSError, subprocess.CalledProcessError):
         return None

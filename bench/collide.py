@@ -122,7 +122,7 @@ def python_narrow_phase():
         return None
     sys.path.insert(0, str(folder))
     spec = importlib.util.spec_from_file_location("before_contacts", folder / "before_contacts.py")
-    module = importlib.util.module_from_spec(spec)
+    module = sys.modules["before_contacts"] = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module.find_contacts
 

@@ -24,9 +24,10 @@ import numpy as np
 
 from generated import CASE_ID
 from runtime.collide import ovals
+from runtime.collide.candidates import COLUMNS
 from runtime.collide.contact_set import Contacts
 from runtime.collide.features import features, scene_tables
-from runtime.collide.narrowphase import COLUMNS, find_candidates
+from runtime.collide.narrowphase import find_candidates
 from runtime.collide.selection import select
 from runtime.model.shapes import Shape
 

@@ -22,9 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from runtime.collide.contact_set import END
-from runtime.collide.features import CLOSED, HALF_WIDTH, RADIUS
-from runtime.collide.narrowphase import (
+from runtime.collide.candidates import (
     CASE,
     END_ANGLE,
     INDEX1,
@@ -39,6 +37,8 @@ from runtime.collide.narrowphase import (
     WAY_OUT,
     G,
 )
+from runtime.collide.contact_set import END
+from runtime.collide.features import CLOSED, HALF_WIDTH, RADIUS
 from runtime.compiled import leaf, njit
 from runtime.settings import (
     CONE_SLACK,

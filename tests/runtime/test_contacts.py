@@ -26,9 +26,10 @@ from scipy.spatial import cKDTree
 
 from runtime.collide import contacts
 from runtime.collide.broadphase import sweep
+from runtime.collide.candidates import BODY1, BODY2
 from runtime.collide.contacts import candidate_pairs, find_contacts, possible_cases
 from runtime.collide.finder import ContactFinder
-from runtime.collide.narrowphase import BODY1, BODY2, find_candidates
+from runtime.collide.narrowphase import find_candidates
 from runtime.model import shapes
 
 pytestmark = pytest.mark.filterwarnings("error")

@@ -72,6 +72,7 @@ def _admit(k, gap, tol, depth, body, body2, cand, plausible):
 
 @leaf
 def _select_pair(k0, k1, keep, plausible, admitted, gap, tol, depth, eps, body, body1, body2, cand):
+    """Set ``keep`` for the candidates k0 <= k < k1 of one pair (``admitted``: scratch)."""
     deep = False
     for k in range(k0, k1):
         keep[k] = _admit(k, gap, tol, depth, body, body2, cand, plausible)
@@ -137,6 +138,7 @@ def select(poses, base, margins, body, cand, count, body1, body2, gap, out):
 def _write(
     poses, cand, count, keep, body1, body2, gap, case, one, two, geometry, feature, point, normal
 ):
+    """Write the kept candidates to the front of the output arrays; returns how many."""
     m = 0
     for k in range(count):
         if not keep[k]:

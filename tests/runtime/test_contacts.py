@@ -147,6 +147,22 @@ def test_rounded_box_flat_and_tilted_on_a_floor_and_stacked():
     assert len(stack) == 2 and all(c.gap == pytest.approx(0, abs=1e-15) for c in stack)
 
 
+def test_sunk_smooth_end_is_a_contact_only_within_cone_slack_beyond_its_arc():
+    """A rounded box tilted right side down and sunk into a floor: the left end of its flat
+    bottom (where it runs into the arc) penetrates too; it is a contact while the floor's
+    normal lies at most CONE_SLACK (0.1 rad) beyond its arc, not at 0.15 rad."""
+    box = shapes.rounded_rect(2.0, 1.0, 0.2)
+    for th, sink, end in ((-0.05, 0.1, True), (-0.15, 0.3, False)):
+        lowest = math.sin(th) * 0.8 - math.cos(th) * 0.3 - 0.2  # the right arc's, body at 0
+        found = find([FLOOR, box], [[0, 0, 0], [0, -lowest - sink, th]], [True, False], tol=0.0)
+        ends = [c for c in found if c.feature[0][0] == "end"]
+        corner = np.array([0, -lowest - sink]) + rot(th, (-0.8, -0.5))
+        assert [c.gap for c in ends] == ([pytest.approx(corner[1], abs=1e-12)] if end else [])
+        assert corner[1] < -0.01  # it does penetrate in both
+        (arc,) = [c for c in found if c.case == "circle_edge"]
+        assert arc.gap == pytest.approx(-sink, abs=1e-12)
+
+
 def test_disc_wedged_in_a_v_touches_both_sides():
     v = shapes.segment_chain([(-1, 1), (0, 0), (1, 1)])
     r = 0.3
@@ -246,6 +262,17 @@ def test_penetration_keeps_only_plausible_contacts():
     deep = find([FLOOR, shapes.disc(0.1)], [[0, 0, 0], [0, 0.05, 0]], [True, False])
     assert [c.gap for c in deep] == pytest.approx([-0.05])  # reported for the overlap check
     assert find([FLOOR, shapes.disc(0.1)], [[0, 0, 0], [0, -0.05, 0]], [True, False]) == []
+
+
+def test_penetrating_corner_keeps_only_its_shallowest_way_out_of_a_closed_body():
+    """A wide tip poking into a box's corner, 0.01 below its top and 0.02 inside its side: both
+    edges are in the tip's normal cone and both depths plausible, but one corner in a closed
+    body is one constraint, the shallowest: the top edge."""
+    tip = shapes.polygon([(0, 0), (1.0, 0.3), (0.3, 1.0)])  # vertex 0 points down-left
+    (c,) = find([SQUARE, tip], [[0, 0, 0], [0.48, 0.49, 0]], [False, False], tol=0.0)
+    assert c.feature == (("vertex", 0), ("edge", 2)) and c.gap == pytest.approx(-0.01)
+    (c,) = find([SQUARE, tip], [[0, 0, 0], [0.49, 0.48, 0]], [False, False], tol=0.0)
+    assert c.feature == (("vertex", 0), ("edge", 1)) and c.gap == pytest.approx(-0.01)
 
 
 # -- kernels ---------------------------------------------------------------------------------

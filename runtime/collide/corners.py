@@ -135,8 +135,23 @@ def corners_on_edges(rows, start, world, cand, k, ctx, b1, b2):
             ):
                 g = (rows[c, X], rows[c, Y], 0.0) + edge
                 aux = _vertex(rows, start, world, ctx, b2, gap, px, py, math.nan)
-                k = emit(cand, k, ctx, VERTEX_EDGE, b1, VERTEX, rows[c, C_INDEX], b2, EDGE,
-                          rows[s, S_INDEX], g, gap, (px, py), (nx, ny), aux)  # fmt: skip
+                k = emit(
+                    cand,
+                    k,
+                    ctx,
+                    VERTEX_EDGE,
+                    b1,
+                    VERTEX,
+                    rows[c, C_INDEX],
+                    b2,
+                    EDGE,
+                    rows[s, S_INDEX],
+                    g,
+                    gap,
+                    (px, py),
+                    (nx, ny),
+                    aux,
+                )
         for e in range(e0, e1):  # a smooth end: only for directions beyond its arc
             px, py = world[e, X] + o1x, world[e, Y] + o1y
             gap, u = nx * (px - ax) + ny * (py - ay), tx * (px - ax) + ty * (py - ay)
@@ -147,8 +162,23 @@ def corners_on_edges(rows, start, world, cand, k, ctx, b1, b2):
             if SPAN_EPS < angle <= HALF_PI:  # within CONE_SLACK if it penetrates: selection
                 g = (rows[e, X], rows[e, Y], 0.0) + edge
                 aux = _vertex(rows, start, world, ctx, b2, gap, px, py, angle)
-                k = emit(cand, k, ctx, VERTEX_EDGE, b1, END, rows[e, E_INDEX], b2, EDGE,
-                          rows[s, S_INDEX], g, gap, (px, py), (nx, ny), aux)  # fmt: skip
+                k = emit(
+                    cand,
+                    k,
+                    ctx,
+                    VERTEX_EDGE,
+                    b1,
+                    END,
+                    rows[e, E_INDEX],
+                    b2,
+                    EDGE,
+                    rows[s, S_INDEX],
+                    g,
+                    gap,
+                    (px, py),
+                    (nx, ny),
+                    aux,
+                )
     for a in range(start[b2, ARCS], start[b2 + 1, ARCS]):
         circle = (
             world[a, X] + o2x,
@@ -175,8 +205,9 @@ def corners_on_edges(rows, start, world, cand, k, ctx, b1, b2):
                 circle, geometry = osculating_circle(
                     rows[e], ovals.support(f2, nx, ny)[2], th2, o2x, o2y
                 )
-                k = _corner_arc(rows, start, world, cand, k, ctx, b1, c, b2, circle, geometry,
-                                rows[e, L_INDEX])  # fmt: skip
+                k = _corner_arc(
+                    rows, start, world, cand, k, ctx, b1, c, b2, circle, geometry, rows[e, L_INDEX]
+                )
     return k
 
 
@@ -196,8 +227,23 @@ def _corner_arc(rows, start, world, cand, k, ctx, b1, c, b2, circle, geometry, i
         return k
     g = (rows[c, X], rows[c, Y], 0.0) + geometry + (0.0,)
     aux = _vertex(rows, start, world, ctx, b2, gap, px, py, math.nan)
-    return emit(cand, k, ctx, VERTEX_CIRCLE, b1, VERTEX, rows[c, C_INDEX], b2, EDGE, index2, g,
-                 gap, (px, py), (nx, ny), aux)  # fmt: skip
+    return emit(
+        cand,
+        k,
+        ctx,
+        VERTEX_CIRCLE,
+        b1,
+        VERTEX,
+        rows[c, C_INDEX],
+        b2,
+        EDGE,
+        index2,
+        g,
+        gap,
+        (px, py),
+        (nx, ny),
+        aux,
+    )
 
 
 @leaf
@@ -219,6 +265,21 @@ def corner_on_corner(rows, start, world, cand, k, ctx, one, two):
             ):
                 g = (rows[c1, X], rows[c1, Y], 0.0, rows[c2, X], rows[c2, Y], 0.0, 0.0)
                 aux = _vertex(rows, start, world, ctx, two, gap, px, py, math.nan)
-                k = emit(cand, k, ctx, VERTEX_CIRCLE, one, VERTEX, rows[c1, C_INDEX], two, VERTEX,
-                          rows[c2, C_INDEX], g, gap, (px, py), (nx, ny), aux)  # fmt: skip
+                k = emit(
+                    cand,
+                    k,
+                    ctx,
+                    VERTEX_CIRCLE,
+                    one,
+                    VERTEX,
+                    rows[c1, C_INDEX],
+                    two,
+                    VERTEX,
+                    rows[c2, C_INDEX],
+                    g,
+                    gap,
+                    (px, py),
+                    (nx, ny),
+                    aux,
+                )
     return k

@@ -55,8 +55,9 @@ def curves_on_segments(rows, start, world, cand, k, ctx, b1, b2):
             qx, qy, t = ovals.support(ovals.oval(rows[e], th1, o1x, o1y), -nx, -ny)
             if nx * (qx - world[s, X] - o2x) + ny * (qy - world[s, Y] - o2y) <= ctx.tolerance:
                 circle, geometry = osculating_circle(rows[e], t, th1, o1x, o1y)
-                k = _circle_edge(rows, world, cand, k, ctx, b1, circle[:3], geometry, rows[e, L_INDEX],
-                                 b2, s)  # fmt: skip
+                k = _circle_edge(
+                    rows, world, cand, k, ctx, b1, circle[:3], geometry, rows[e, L_INDEX], b2, s
+                )
     return k
 
 
@@ -70,8 +71,23 @@ def _circle_edge(rows, world, cand, k, ctx, b1, centre, geometry, index1, b2, s)
     if gap > ctx.tolerance or not -slack <= u <= rows[s, S_LENGTH] + slack:
         return k
     g = geometry + (rows[s, X], rows[s, Y], rows[s, S_NX], rows[s, S_NY])
-    return emit(cand, k, ctx, CIRCLE_EDGE, b1, EDGE, index1, b2, EDGE, rows[s, S_INDEX], g, gap,
-                 (cx - r * nx, cy - r * ny), (nx, ny), (math.nan, math.nan))  # fmt: skip
+    return emit(
+        cand,
+        k,
+        ctx,
+        CIRCLE_EDGE,
+        b1,
+        EDGE,
+        index1,
+        b2,
+        EDGE,
+        rows[s, S_INDEX],
+        g,
+        gap,
+        (cx - r * nx, cy - r * ny),
+        (nx, ny),
+        (math.nan, math.nan),
+    )
 
 
 @leaf
@@ -156,5 +172,20 @@ def _arc_arc(cand, k, ctx, b1, c1, g1, index1, b2, c2, g2, index2):
     nx, ny = sig * vx / dist, sig * vy / dist
     if not (in_span(vy, vx, s2, w2) and in_span(-ny, -nx, s1, w1)):
         return k
-    return emit(cand, k, ctx, CIRCLE_CIRCLE, b1, EDGE, index1, b2, EDGE, index2, g1 + g2 + (0.0,),
-                 gap, (x1 - r1 * nx, y1 - r1 * ny), (nx, ny), (math.nan, math.nan))  # fmt: skip
+    return emit(
+        cand,
+        k,
+        ctx,
+        CIRCLE_CIRCLE,
+        b1,
+        EDGE,
+        index1,
+        b2,
+        EDGE,
+        index2,
+        g1 + g2 + (0.0,),
+        gap,
+        (x1 - r1 * nx, y1 - r1 * ny),
+        (nx, ny),
+        (math.nan, math.nan),
+    )

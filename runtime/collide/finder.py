@@ -150,9 +150,15 @@ class ContactFinder:
                 done += at[case + 1] - at[case]
         if done != count:  # a case possible_cases did not foresee: a bug, not bad input
             raise RuntimeError(f"contacts of cases beyond {sorted(self.cases)} found")
-        out = (np.empty(count, np.int64), np.empty(count, np.int64), np.empty(count, np.int64),
-               np.empty((count, 7)), np.empty((count, 4), np.int64), np.empty((count, 2)),
-               np.empty((count, 2)))  # fmt: skip
+        out = (
+            np.empty(count, np.int64),
+            np.empty(count, np.int64),
+            np.empty(count, np.int64),
+            np.empty((count, 7)),
+            np.empty((count, 4), np.int64),
+            np.empty((count, 2)),
+            np.empty((count, 2)),
+        )
         m = select(p, base, widen, body, self._candidates, count, body1, body2, gap, out)
         if m == 0:
             return EMPTY

@@ -125,8 +125,19 @@ def find_candidates(poses, base, margins, rows, start, body, cand, kernel_inputs
         i, j = pairs[p, 0], pairs[p, 1]
         slack = SCREEN_SLACK * (body[i, RADIUS] + body[j, RADIUS])
         oix, oiy = poses[i, 0] - poses[j, 0], poses[i, 1] - poses[j, 1]
-        ctx = PairContext(base + margins[i] + margins[j] + slack, slack, float(i), float(j), oix,
-                          oiy, float(p), poses[i, 2], poses[j, 2], body[i, CLOSED], body[j, CLOSED])  # fmt: skip
+        ctx = PairContext(
+            base + margins[i] + margins[j] + slack,
+            slack,
+            float(i),
+            float(j),
+            oix,
+            oiy,
+            float(p),
+            poses[i, 2],
+            poses[j, 2],
+            body[i, CLOSED],
+            body[j, CLOSED],
+        )
         i_first = not (body[i, FIXED] > 0 and body[j, FIXED] == 0)
         k = _pair(rows, start, world, cand, k, ctx, i, j, i_first)
     if k <= len(cand):

@@ -4,7 +4,7 @@ What is measured, per scene: wall time and steps per second; the drift of the me
 (largest |E - E0| so far at 10^3, 5*10^3, 10^4, 5*10^4 and 10^5 steps, and the drift per step,
 max |E - E0| / (|E0| k)); the largest penetration (-gap of the contacts the engine found at the
 start of the recorded steps, `Run.min_gap`, and independently the smallest gap
-`Scene.find_contacts` reports at the recorded poses); NaN, solver failures and impacts. For the
+`Scene.contacts` reports at the recorded poses); NaN, solver failures and impacts. For the
 disc in the bowl also the phase error against the exact pendulum of length R - r (solve_ivp,
 DOP853, rtol 1e-12); for the stack, how far the blocks crept from their initial poses (they
 start exactly at rest on each other).
@@ -106,11 +106,7 @@ def measure(name: str, steps: int = STEPS, dt: float = DT) -> dict:
     drift = np.abs(energy - energy[0])
     gaps = np.asarray(run.min_gap)
     independent = min(
-        (
-            c.gap
-            for p in run.poses[:: max(1, len(run.poses) // 2000)]
-            for c in scene.find_contacts(p)
-        ),
+        (g for p in run.poses[:: max(1, len(run.poses) // 2000)] for g in scene.contacts(p).gap),
         default=math.inf,
     )
     out = {
@@ -251,7 +247,7 @@ def report(results: list[dict], elapsed: float, jobs: int, load: tuple[float, fl
             "",
             growth_table,
             "",
-            f"Impacts located: {impacts}. Smallest gap `Scene.find_contacts` reports at the "
+            f"Impacts located: {impacts}. Smallest gap `Scene.contacts` reports at the "
             f"recorded poses: {smallest}.",
             "",
         ]

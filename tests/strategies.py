@@ -502,10 +502,11 @@ def deepest_penetration(scene: Any, poses_list: Any, bound: float) -> tuple[floa
 
     worst = (0.0, 0, "")
     for k, poses in enumerate(poses_list):
-        for c in scene.find_contacts(poses, tolerance=0.0):
-            if -c.gap > worst[0]:
-                names = scene.bodies[c.body1].name, scene.bodies[c.body2].name
-                worst = (-float(c.gap), k, f"{c.case} contact {names[0]}/{names[1]}")
+        found = scene.contacts(poses, tolerance=0.0)
+        for c, gap in enumerate(found.gap.tolist()):
+            if -gap > worst[0]:
+                names = scene.bodies[found.body1[c]].name, scene.bodies[found.body2[c]].name
+                worst = (-gap, k, f"{found.case_name(c)} contact {names[0]}/{names[1]}")
         deep = deepest_overlap(scene.shapes, poses, scene.fixed, max(bound, worst[0]))
         if deep is not None and deep[2] > worst[0]:
             names = scene.bodies[deep[0]].name, scene.bodies[deep[1]].name

@@ -11,7 +11,7 @@ from decimal import ROUND_FLOOR, Decimal
 
 import numpy as np
 
-from runtime.collide import narrowphase as _narrowphase
+from runtime.collide.features import features
 from runtime.io.scene_overlap import deepest_overlap
 from runtime.io.scene_table import Table, body_label
 from runtime.model.scene import Scene
@@ -30,7 +30,7 @@ def check_tolerances(scene: Scene, table: Table) -> None:
     moving = [(k, b) for k, b in enumerate(scene.bodies) if not b.fixed]
     if not moving:
         return
-    widths = [(float(_narrowphase.table(b.shape).half_width), k) for k, b in moving]
+    widths = [(float(features(b.shape).half_width), k) for k, b in moving]
     half, k = min(widths)
     limit = TOLERANCE_FRACTION * half
     label = body_label(k, scene.bodies[k].name)
@@ -120,14 +120,13 @@ def check_overlaps(scene: Scene) -> None:
     contacts the engine would see, then deep overlaps that the contact finder leaves out."""
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
-        found = scene.find_contacts()
+        found = scene.contacts()
         deep = deepest_overlap(scene.shapes, scene.poses(), scene.fixed, scene.overlap_tolerance)
-    for contact in found:
-        gap = float(contact.gap)
+    for k, gap in enumerate(found.gap.tolist()):
         if gap < -scene.overlap_tolerance or not math.isfinite(gap):
             amount = f"by {-gap:.6g} m" if math.isfinite(gap) else "(coincident features)"
-            detail = f"{contact.case} contact at {_point(contact.point)}"
-            _overlap_error(scene, int(contact.body1), int(contact.body2), amount, detail)
+            detail = f"{found.case_name(k)} contact at {_point(found.point[k])}"
+            _overlap_error(scene, int(found.body1[k]), int(found.body2[k]), amount, detail)
     if deep is not None:
         i, j, depth, point = deep
         names = scene.bodies[i].name, scene.bodies[j].name

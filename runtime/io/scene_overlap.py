@@ -1,6 +1,6 @@
 """Deep overlaps at t = 0, which the contact finder does not report.
 
-The narrow phase (runtime/narrowphase.py) keeps a penetrating contact only if it is plausible
+The narrow phase (runtime/collide/selection.py) keeps a penetrating contact only if it is plausible
 for a simulation step, e.g. no deeper than half the thinner body, so a disc placed with its
 centre on a floor, or inside another body, yields no contact at all.  A scene file with such a
 mistake must still be refused, so this module samples each body's boundary (corners, points
@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from runtime.collide.contacts import candidate_pairs
+from runtime.collide.broadphase import candidate_pairs
 from runtime.model.ellipse_distance import ellipse_distance
 from runtime.model.shapes import TAU, Arc, Ellipse, Segment
 

@@ -17,6 +17,8 @@ from typing import Any
 import numpy as np
 
 from runtime.collide import contacts as _contacts
+from runtime.collide.contact_set import Contacts
+from runtime.collide.finder import ContactFinder
 
 __all__ = ["Body", "Scene", "SimulationDefaults"]
 
@@ -215,16 +217,23 @@ class Scene:
         """The contact cases (generated kernels) this scene can produce."""
         return set(_contacts.possible_cases(self.shapes, self.fixed))
 
-    def find_contacts(
-        self, poses: np.ndarray | None = None, tolerance: float | None = None
-    ) -> list[Any]:
-        """Contacts with gap below ``tolerance`` (default the scene's) at ``poses`` (default
-        the initial poses)."""
-        return _contacts.find_contacts(
-            self.shapes,
+    def contact_finder(self) -> ContactFinder:
+        """The contact finder of the bodies as they are now (kept while they stay the same)."""
+        return _contacts.finder_for(self.shapes, self.fixed)
+
+    def contacts(
+        self,
+        poses: np.ndarray | None = None,
+        tolerance: float | None = None,
+        margins: np.ndarray | None = None,
+    ) -> Contacts:
+        """Contacts with gap below ``tolerance`` (default the scene's contact tolerance; plus
+        ``margins[i] + margins[j]`` for bodies i, j if given) at ``poses`` (default the initial
+        poses)."""
+        return self.contact_finder().find(
             self.poses() if poses is None else poses,
-            self.fixed,
             self.contact_tolerance if tolerance is None else tolerance,
+            margins,
         )
 
     def copy(self) -> Scene:

@@ -267,7 +267,7 @@ class Shape:
     for an open chain such as a wall or a bowl, which bounds no area).  ``vertices``: the
     corner points, the points that take part in contacts as "vertex" features (besides them,
     the end of a convex arc where it runs smoothly into a straight side acts as a vertex
-    against straight edges: runtime/narrowphase.py).  Mass properties (per unit density) are
+    against straight edges: runtime/collide/features.py).  Mass properties (per unit density) are
     those of the region a closed boundary encloses; an open chain has area, centroid and
     second moment zero.  ``_cache`` holds derived tables (the narrow phase's features)."""
 

@@ -34,6 +34,7 @@ import numpy as np
 
 from runtime import settings
 from runtime.collide import sweep
+from runtime.collide.features import features
 from runtime.compiled import Bound
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution, Stabilisation
 from runtime.solve.islands import body_islands, contact_islands
@@ -98,9 +99,7 @@ class Stepper:
         self.touch = min(settings.TOUCH, scene.contact_tolerance)
         self.gravity = float(np.hypot(*scene.gravity))
         self.radii = np.array([s.bounding_radius for s in scene.shapes], dtype=float)
-        from runtime.collide import narrowphase
-
-        half = np.array([narrowphase.table(s).half_width for s in scene.shapes], dtype=float)
+        half = np.array([features(s).half_width for s in scene.shapes], dtype=float)
         switches = np.array([len(s.edges) > 1 or bool(s.vertices) for s in scene.shapes])
         self.events = EventSearch(
             self.collision, self.evaluator, self.touch, self.radii, half, switches

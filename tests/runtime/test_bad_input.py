@@ -379,9 +379,9 @@ SCENE_CASES: list[Case] = [
          ("body 'disc' (#2): field 'shape'", "is below 2e-50 m, the smallest moving body")),
     Case("tolerances", "both defaults too large", "radius = 1e-9",
          scene_text(shape='{ type = "disc", radius = 1e-9 }', position="[0.0, 0.01]"),
-         ("set it to at most 4.99e-10 m", "and overlap_tolerance (1e-09 m) too")),
-    Case("tolerances", "overlap tolerance as large as a body", "overlap_tolerance = 0.05",
-         scene_text(scene="overlap_tolerance = 0.05"),
+         ("set it to at most 5e-10 m", "and overlap_tolerance (1e-09 m) too")),
+    Case("tolerances", "overlap tolerance as large as a body", "overlap_tolerance = 0.06",
+         scene_text(scene="overlap_tolerance = 0.06"),
          ("[scene]: field 'overlap_tolerance'", "would let bodies start that deep inside")),
     # the file itself
     Case("file", "not UTF-8", "a Latin-1 byte in a comment",

@@ -21,7 +21,6 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import runtime
-from runtime.collide.contacts import as_arrays
 from runtime.step.stepper import Stepper
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -83,7 +82,7 @@ def penetration(scene, poses) -> float:
 def smallest_gap(scene, poses) -> float:
     """Smallest gap of all contacts the contact finder reports at the given poses (inf if none),
     independent of the run's own bookkeeping."""
-    return min((c.gap for p in poses for c in scene.find_contacts(p)), default=math.inf)
+    return min((g for p in poses for g in scene.contacts(p).gap), default=math.inf)
 
 
 def _pendulum(phi0: float, omega0: float, sign: float, length: float, times) -> np.ndarray:
@@ -129,7 +128,7 @@ def test_disc_on_a_radius_1e6_disc_slides_as_on_a_flat_floor():
     y_exact = r - 2 * (R + r) * np.sin(phi / 2) ** 2  # = -R + (R + r) cos phi, without cancelling
     error = max(np.max(np.abs(pb[:, 0] - x_exact)), np.max(np.abs(pb[:, 1] - y_exact)))
     _check("R = 1e6 floor vs exact motion on the circle (m)", error, 1e-12)
-    gaps = [c.gap for p in run_big.poses for c in big.find_contacts(p)]
+    gaps = [g for p in run_big.poses for g in big.contacts(p).gap]
     assert len(gaps) == len(run_big.poses)  # in contact throughout
     _check("R = 1e6 floor: |gap| (m)", max(abs(g) for g in gaps), 4 * ulp(R))
     mass = big.bodies[1].mass
@@ -160,8 +159,8 @@ def test_rounded_corner_of_radius_1e_6_behaves_like_a_vertex():
 
     sharp_scene, sharp = box(0.0)
     round_scene, rounded = box(1e-6)
-    assert sharp_scene.find_contacts()[0].case == "vertex_edge"
-    assert round_scene.find_contacts()[0].case == "circle_edge"
+    assert sharp_scene.contacts().case_name(0) == "vertex_edge"
+    assert round_scene.contacts().case_name(0) == "circle_edge"
     ps, pr = np.array(sharp.poses)[:, 1], np.array(rounded.poses)[:, 1]
     assert np.all(np.abs(ps[-1, 2]) < 1e-9) and np.all(np.abs(pr[-1, 2]) < 1e-9)  # landed flat
     _check("r = 1e-6 corner vs vertex: position (m)", np.max(np.abs(pr[:, :2] - ps[:, :2])), 1e-6)
@@ -469,7 +468,7 @@ def test_disc_slides_from_a_flat_face_over_a_rounded_corner():
         strict=True,
     ):
         # the arc's contact at this pose, held or not, and its d'' if it pushed with no force
-        found = as_arrays(scene.find_contacts(pose, tolerance=1e-2))
+        found = scene.contacts(pose, tolerance=1e-2)
         arc = found.take(
             np.array([found.case_name(k) == "circle_circle" for k in range(len(found))], dtype=bool)
         )
@@ -569,7 +568,7 @@ def test_box_resting_on_redundant_contacts_stays_put(name):
     acceptance of |d''| <= LCP_TOL max|b|)."""
     x0 = 0.0 if "container" in name else 0.05
     scene = make_scene(*REDUNDANT[name], moving("box", BOX, (x0, 0.1), mass=1.0))
-    contacts = scene.find_contacts()
+    contacts = scene.contacts()
     T = 0.1
     run = simulate(scene, T, 1e-3, record_every=10)
     p = np.array(run.poses)[:, -1]
@@ -613,7 +612,7 @@ def test_disc_that_exactly_fits_its_bowl(radius):
     dt = 1e-3
     bowl = {"type": "bowl", "radius": radius, "start_angle": -2.6, "end_angle": -0.5}
     scene = make_scene(fixed("bowl", bowl), disc("disc", radius, (0.0, 0.0)))
-    assert scene.find_contacts() == []
+    assert len(scene.contacts()) == 0
     run = simulate(scene, 0.05, dt)
     p, v = np.array(run.poses)[:, 1], np.array(run.velocities)[:, 1]
     _check(f"exact fit r = {radius}: sink (m)", -np.min(p[:, 1]), G * dt**2 / 2 * (1 + 1e-9))

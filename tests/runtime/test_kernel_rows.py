@@ -17,7 +17,6 @@ import pytest
 import generated
 import runtime
 from bench.steps import pile_scene
-from runtime.collide.contacts import as_arrays
 from runtime.solve.rows import RowEvaluator
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
@@ -40,7 +39,7 @@ def test_one_contact_alone_gives_the_bits_it_gets_in_a_batch(scene_name):
     rng = np.random.default_rng(3)
     poses = scene.poses()
     velocities = rng.normal(size=poses.shape)
-    contacts = as_arrays(scene.find_contacts(poses, tolerance=TOLERANCE[scene_name]))
+    contacts = scene.contacts(poses, tolerance=TOLERANCE[scene_name])
     fixed = np.asarray(scene.fixed)
     kinds = set(zip(contacts.case.tolist(), fixed[contacts.body2].tolist(), strict=True))
     assert len(contacts) >= 1 and (scene_name == "rounded_box_into_bowl" or len(kinds) >= 2)
@@ -61,7 +60,7 @@ def test_rows_are_the_numpy_kernels_numbers(scene_name):
     rng = np.random.default_rng(4)
     poses = scene.poses()
     velocities = rng.normal(size=poses.shape) * ~np.asarray(scene.fixed)[:, None]
-    contacts = as_arrays(scene.find_contacts(poses, tolerance=TOLERANCE[scene_name]))
+    contacts = scene.contacts(poses, tolerance=TOLERANCE[scene_name])
     fixed = np.asarray(scene.fixed)
     rows = RowEvaluator(scene.contact_cases(), fixed).rows(contacts, poses, velocities)
     for k in range(len(contacts)):

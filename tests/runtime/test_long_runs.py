@@ -92,7 +92,7 @@ def test_long_run_constraint_drift_per_step(long_run):
     print(f"\n[long run] {name}: constraint drift {drift.max():.3g} m")
     assert np.all(drift <= bound), f"step {k[np.argmax(drift - bound)]:.0f}: {drift.max():.3g} m"
     for j in np.linspace(0, len(run.poses) - 1, 6).astype(int):
-        found = min(c.gap for c in scene.find_contacts(run.poses[j]))
+        found = min(scene.contacts(run.poses[j]).gap)
         assert abs(found - gaps[j]) <= 4 * ulp(1.0)
 
 

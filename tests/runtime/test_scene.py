@@ -136,12 +136,16 @@ def test_shipped_scene_loads_without_overlap_and_touches(path):
     assert scene.name and scene.source == str(path)
     assert scene.simulation.dt > 0 and scene.simulation.duration > 0
     assert np.all(np.isfinite(scene.poses())) and np.all(np.isfinite(scene.inverse_masses))
-    contacts = scene.find_contacts()
-    for contact in contacts:
-        assert contact.gap >= -TOUCH, (contact, scene.bodies[contact.body1].name)
+    contacts = scene.contacts()
+    for k, gap in enumerate(contacts.gap):
+        assert gap >= -TOUCH, (contacts.describe(k), scene.bodies[contacts.body1[k]].name)
     for a, b in TOUCHING[path.stem]:
         pair = {scene.index(a), scene.index(b)}
-        gaps = [c.gap for c in contacts if {c.body1, c.body2} == pair]
+        gaps = [
+            g
+            for g, i, j in zip(contacts.gap, contacts.body1, contacts.body2, strict=True)
+            if {int(i), int(j)} == pair
+        ]
         assert gaps and min(abs(g) for g in gaps) <= TOUCH, (a, b, gaps)
     for body in scene.bodies:
         if not body.fixed:
@@ -181,7 +185,7 @@ def test_shifted_and_copy():
         far.poses()[:, :2] - scene.poses()[:, :2], np.tile([1e6, -2e6], (len(scene.bodies), 1))
     )
     np.testing.assert_array_equal(scene.poses()[:, 2], far.poses()[:, 2])
-    gaps = sorted(c.gap for c in far.find_contacts())
+    gaps = sorted(far.contacts().gap.tolist())
     assert gaps and abs(gaps[0]) < 1e-9
     twin = scene.copy()
     twin.bodies[1].position = (5.0, 5.0)
@@ -389,8 +393,12 @@ def test_overlap_between_two_moving_bodies(tmp_path):
         (
             '[[body]]\nname = "box"\nfixed = true\nposition = [0.0, 1.0]\n'
             'shape = { type = "box_walls", width = 1.0, height = 1.0 }\n'
-            + disc_toml().replace("[0.0, 0.5]", "[0.5, 1.5]"),
-            ["body 'box' (#2) and body 'disc' (#3)", "overlap by at least 0.0"],
+            # a plank across the right wall, its centre inside: 0.15 m through, far deeper than
+            # its half-thickness (so the contact finder drops it; sampling finds it)
+            + disc_toml(
+                'type = "polygon", points = [[-0.2, -0.01], [0.2, -0.01], [0.2, 0.01], [-0.2, 0.01]]'
+            ).replace("[0.0, 0.5]", "[0.45, 1.5]"),
+            ["body 'box' (#2) and body 'disc' (#3)", "overlap by at least 0.15 m"],
         ),
     ],
     ids=["centre on floor", "inside another body", "across a box wall"],
@@ -402,7 +410,7 @@ def test_deep_overlaps_are_found(tmp_path, bodies, parts):
 
 def test_body_entirely_behind_a_wall_is_not_an_overlap(tmp_path):
     scene = load_scene(write(tmp_path, disc_toml().replace("[0.0, 0.5]", "[0.0, -0.5]")))
-    assert scene.find_contacts() == []
+    assert len(scene.contacts()) == 0
 
 
 def test_half_disc_centre_of_mass_and_inertia():
@@ -428,7 +436,7 @@ def test_half_disc_centre_of_mass_and_inertia():
 
 def test_small_overlap_within_tolerance_is_accepted(tmp_path):
     scene = load_scene(write(tmp_path, disc_toml().replace("[0.0, 0.5]", "[0.0, 0.0999999999999]")))
-    assert min(c.gap for c in scene.find_contacts()) == pytest.approx(-1e-13, abs=1e-15)
+    assert min(scene.contacts().gap) == pytest.approx(-1e-13, abs=1e-15)
 
 
 @pytest.mark.parametrize(
@@ -560,7 +568,7 @@ def test_exact_touch_on_an_ellipse_loads_and_one_micrometre_inside_is_refused(pa
     for _ in range(25):
         bodies, into = _touching_pairs(rng)[pair]
         scene = scene_from_dict({"scene": {"gravity": [0.0, 0.0]}, "body": bodies})
-        assert min((c.gap for c in scene.find_contacts()), default=0.0) > -1e-9
+        assert min(scene.contacts().gap, default=0.0) > -1e-9
         moved = [dict(body) for body in bodies]
         moved[1]["position"] = list(np.asarray(bodies[1]["position"]) + 1e-6 * into)
         with pytest.raises(SceneError, match=r"overlap by (at least )?1e-06 m at t = 0"):
@@ -785,7 +793,7 @@ def test_a_plate_of_two_walls_back_to_back_shields_the_body_resting_on_it():
     not refused. Without the top face it is."""
     top, bottom = _wall((-1, 0), (1, 0), "top"), _wall((1, -0.02), (-1, -0.02), "bottom")
     scene = scene_from_dict({"body": [top, bottom, disc_body(position=(0.0, 0.1))]})
-    assert min(c.gap for c in scene.find_contacts()) == pytest.approx(0.0, abs=1e-15)
+    assert min(scene.contacts().gap) == pytest.approx(0.0, abs=1e-15)
     with pytest.raises(SceneError, match="body 'bottom' .* is at the back of this wall"):
         scene_from_dict({"body": [bottom, disc_body(position=(0.0, 0.1))]})
 

@@ -108,7 +108,8 @@ class Stepper:
         self.recent: frozenset = frozenset()  # ... at the end of the last step
         self._limits: dict[float, Limits] = {}
         self.evaluations = 0  # right-hand-side evaluations (integrator stages)
-        self.compiled = method in FIXED_STEP and stabilisation is None
+        self.ovals = self.collision.finder.has_ovals
+        self.compiled = method in FIXED_STEP and stabilisation is None and not self.ovals
         if self.compiled:
             self.kernels = row_kernels(scene.contact_cases())
             self._step = Bound(compiled_stages.step)
@@ -178,7 +179,10 @@ class Stepper:
 
         def accelerations(q: np.ndarray, v: np.ndarray) -> np.ndarray:
             self.evaluations += 1
-            rows = self.evaluator.rows(problem.contacts, q, v, self.with_gaps)
+            contacts = problem.contacts
+            if self.ovals:  # an oval's contact point moves over it: found again at each stage
+                contacts = self.collision.refresh_ovals(contacts, q)
+            rows = self.evaluator.rows(contacts, q, v, self.with_gaps)
             solution: ForceSolution = self.forces.solve(problem, rows)
             return solution.accelerations
 

@@ -39,6 +39,12 @@ LCP_NOISE = 1e-12  # relative to max |Delta f|: entries of a pivoting direction 
 # Delta a of the unit-diagonal S) this small are rounding, not motion, and never limit a step
 LCP_ZERO_ROW = 1e-24  # relative to the largest A_ii: a row below it is one no force can move
 # (a contact between two fixed bodies); 1e-24 resolves any mass ratio up to 1e24
+LCP_LEAST_NORM_DONE = 1e-12  # relative to the size of its terms: the least-norm stage's
+# equations E f = g hold this well when its Newton method has converged (rounding: ~1e-15)
+LCP_LEAST_NORM_ENOUGH = 1e-9  # relative, as above: good enough when rounding stalls the Newton
+# method (ill-conditioned T); the forces still pass the LCP_TOL check or are not used
+LCP_LEAST_NORM_REGULAR = 1e-13  # relative to a row's curvature in the least-norm Newton
+# matrix: keeps it definite when a row is inactive, far below anything that changes the answer
 LCP_PGS_SWEEPS = 200  # projected Gauss-Seidel sweeps of the last fallback, from the best point
 # found, before its clamped set is solved exactly (it only has to find the set)
 LCP_DENSE_MAX = 96  # rows: islands up to this size use the compiled dense solver; larger

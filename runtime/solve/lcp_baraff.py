@@ -134,8 +134,11 @@ def _max_step(f, a, df, da, d, joint, state, noise_a, noise_f):
 
 
 @njit
-def _drive_to_zero(S, joint, d, a, f, state, L, rows, k, tune, culprit, counts, work, scratch):
-    """Move f along fdirection, swapping rows between C and NC, until a_d = 0."""
+def _drive_to_zero(
+    S, joint, d, a, f, state, L, rows, k, tune, limit, culprit, counts, work, scratch
+):
+    """Move f along fdirection, swapping rows between C and NC, until a_d = 0 (STUCK when
+    counts[PIVOTS] reaches ``limit``)."""
     dependent, noise, always_fresh = tune[0], tune[1], tune[2] > 0.0
     m = f.size
     df, da, rhs, x, row = work[0], work[1], work[2], work[3], work[4]
@@ -143,6 +146,8 @@ def _drive_to_zero(S, joint, d, a, f, state, L, rows, k, tune, culprit, counts, 
     fresh = False
     idle = 0
     for _ in range(10 * m + 10):
+        if counts[PIVOTS] >= limit:
+            return STUCK, k
         counts[PIVOTS] += 1
         _direction(S, L, rows, k, d, sigma, noise, df, da, rhs, x, scratch, counts, always_fresh)
         for i in range(m):
@@ -192,13 +197,15 @@ def _drive_to_zero(S, joint, d, a, f, state, L, rows, k, tune, culprit, counts, 
 @njit
 def baraff(S, b, joint, tol, tune, f, state, L, rows, k, culprit, counts):
     """compute-forces from the state (f, state, the factor of C in L, rows, k): drive violated
-    joints, then violated contacts, one at a time. ``tune`` = (dependent, noise, always_fresh).
+    joints, then violated contacts, one at a time. ``tune`` = (dependent, noise, always_fresh,
+    pivot budget: <= 0 for none).
     Returns (status, k); on INFEASIBLE ``culprit`` marks the rows of the certificate."""
     m = b.size
     a, tol_a = np.empty(m), np.empty(m)
     work = np.empty((5, m))
     scratch = np.empty((m, m))
     residual(S, b, f, tol, a, tol_a)
+    limit = counts[PIVOTS] + int(tune[3]) if tune[3] > 0 else np.iinfo(np.int64).max
     fresh = False
     for j in range(m):  # satisfied joints are clamped at once: they stay satisfied
         if joint[j] and state[j] != CLAMPED and abs(a[j]) <= tol_a[j]:
@@ -220,7 +227,7 @@ def baraff(S, b, joint, tol, tune, f, state, L, rows, k, culprit, counts):
         counts[DRIVES] += 1
         state[d] = FREE
         status, k = _drive_to_zero(
-            S, joint, d, a, f, state, L, rows, k, tune, culprit, counts, work, scratch
+            S, joint, d, a, f, state, L, rows, k, tune, limit, culprit, counts, work, scratch
         )
         if status != OK:
             return status, k

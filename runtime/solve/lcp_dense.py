@@ -72,6 +72,14 @@ def solve_dense(A, b, joint, guess, tol, f_out, clamped_out):
 def solve_dense_counted(A, b, joint, guess, tol, f_out, clamped_out, counts):
     """solve_dense, also counting drives, pivots, fresh factorizations, the path taken (1 warm
     hit, 2 pivoting, 3 pivoting afresh, 4 polished, 5 single row) and the least-norm stage."""
+    budgets = np.zeros(2)
+    return solve_dense_limited(A, b, joint, guess, tol, f_out, clamped_out, counts, budgets)
+
+
+@njit
+def solve_dense_limited(A, b, joint, guess, tol, f_out, clamped_out, counts, budgets):
+    """solve_dense_counted with pivot budgets for the first and the fresh pivoting attempt
+    (0: none): tests use them to drive the solve down its fallback chain."""
     m = b.size
     if A.shape[0] != m or A.shape[1] != m:
         return BAD_INPUT
@@ -106,28 +114,28 @@ def solve_dense_counted(A, b, joint, guess, tol, f_out, clamped_out, counts):
                 clamped_out[i] = True
                 return INFEASIBLE
             clamped_out[i] = joint[i] or b[i] <= tol * b_max
+    if m == 1:  # one row: f = -b / A (unscaled, so A f + b is 0 exactly), never pulling
+        counts[PATH] = SINGLE
+        if d[0] > 0.0:
+            f_out[0] = -b[0] / A[0, 0] if joint[0] or b[0] < 0.0 else 0.0
+            a = A[0, 0] * f_out[0] + b[0]
+            clamped_out[0] = joint[0] or abs(a) <= tol * (abs(b[0]) + abs(A[0, 0] * f_out[0]))
+        return OK
     bs, inv_w, fs = d * b, np.empty(m), np.zeros(m)
     for i in range(m):
         inv_w[i] = A[i, i] / top if top > 0.0 else 0.0
-    status = _solve_scaled(S, bs, joint, guess, tol, inv_w, fs, clamped_out, counts)
+    status = _solve_scaled(S, bs, joint, guess, tol, inv_w, fs, clamped_out, counts, budgets)
     for i in range(m):
         f_out[i] = d[i] * fs[i]
     return status
 
 
 @njit
-def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts):
+def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts, budgets):
     """The chain of the module docstring on the scaled problem (rows with S_ii = 0 are inert)."""
     m = b.size
     a, tol_a = np.empty(m), np.empty(m)
-    if m == 1:
-        counts[PATH] = SINGLE
-        if S[0, 0] > 0.0:
-            f[0] = -b[0] if joint[0] else max(0.0, -b[0])
-            residual(S, b, f, tol, a, tol_a)
-            held[0] = joint[0] or abs(a[0]) <= tol_a[0]
-        return OK
-    tune = np.array((_DEPENDENT, _NOISE, 0.0))
+    tune = np.array((_DEPENDENT, _NOISE, 0.0, budgets[0]))
     L, rows = np.empty((m, m)), np.empty(m, np.int64)
     state, culprit = np.zeros(m, np.int8), np.zeros(m, np.bool_)
     k, status = 0, STUCK
@@ -142,7 +150,7 @@ def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts):
     if status != OK:
         first, best, blame = status, f.copy(), culprit.copy()
         counts[PATH] = PIVOTED_FRESH
-        tune[2] = 1.0  # a fresh factorization for every direction
+        tune[2], tune[3] = 1.0, budgets[1]  # a fresh factorization for every direction
         f[:] = 0.0
         state[:] = FREE
         culprit[:] = False

@@ -23,12 +23,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import lcp_factor as fac
+from runtime.solve.lcp_baraff import refine
 
 _STEP_SLOPE = 1e-4  # Armijo: a step must gain this fraction of its first-order promise
-_CONVERGED = 1e-12  # relative: |g - E f| below this times the size of its terms is solved
-_REGULAR = 1e-13  # relative to a row's own curvature: keeps the Newton matrix definite
+_CONVERGED = settings.LCP_LEAST_NORM_DONE
+_LOOSE = settings.LCP_LEAST_NORM_ENOUGH
+_REGULAR = settings.LCP_LEAST_NORM_REGULAR
 
 
 @njit
@@ -73,6 +76,8 @@ def least_norm(S, b, joint, inv_w, held, count, dependent, f_out):
         f_out[rows[c]] = f_basis[c]
     for c in range(q):
         f_out[others[c]] = f_others[c]
+    if done:  # T may be ill-conditioned: refine a_B = 0 with the basis factor
+        refine(S, b, f_out, L, rows, k)
     return done
 
 
@@ -111,7 +116,9 @@ def _forces(T, g, lam, wB, wR, jB, jR, fB, fR, uR, grad):
 def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
     """The least-distance problem min sum f_i^2 / w_i s.t. f_B + T f_R = g, contacts >= 0, by
     Newton's method on its dual (``w`` here are the inverse weights A_ii / max A_jj). Fills
-    fB, fR; True when |g - f_B - T f_R| is at rounding level."""
+    fB, fR; True when |g - f_B - T f_R| is at rounding level. A full step that keeps every row
+    on its piece solves the dual's quadratic there exactly, so it is taken even when rounding
+    hides its gain in the objective; after it only rounding is left."""
     r, q = T.shape
     lam, trial, step = np.zeros(r), np.empty(r), np.empty(r)
     grad, grad_t = np.empty(r), np.empty(r)
@@ -143,17 +150,18 @@ def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
         for i in range(r):
             slope += grad[i] * step[i]
         t = 1.0
-        accepted = False
+        accepted = same = False
         for _ in range(60):
             for i in range(r):
                 trial[i] = lam[i] + t * step[i]
             phi_t = _forces(T, g, trial, wB, wR, jB, jR, fB_t, fR_t, uR_t, grad_t)
-            if phi_t >= phi + _STEP_SLOPE * t * slope:
+            same = t == 1.0 and _same_pieces(lam, uR, trial, uR_t, jB, jR, everything)
+            if same or phi_t >= phi + _STEP_SLOPE * t * slope:
                 accepted = True
                 break
             t *= 0.5
         if not accepted:
-            return _converged(T, g, fB, fR, grad)
+            return _converged(T, g, fB, fR, grad, _LOOSE)
         lam[:] = trial
         fB[:] = fB_t
         fR[:] = fR_t
@@ -161,19 +169,34 @@ def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
         grad[:] = grad_t
         phi = phi_t
         everything = False
-        if _converged(T, g, fB, fR, grad):
+        if _converged(T, g, fB, fR, grad, _CONVERGED):
             return True
+        if same:
+            return _converged(T, g, fB, fR, grad, _LOOSE)
     return False
 
 
 @njit
-def _converged(T, g, fB, fR, grad):
-    """Whether |g - f_B - T f_R| is below _CONVERGED times the size of its terms, row by row."""
+def _same_pieces(lam, uR, trial, uR_t, jB, jR, everything):
+    """Whether every row is active at ``trial`` exactly where it was for the last Newton
+    matrix (every row, on the first step)."""
+    for i in range(lam.size):
+        if not jB[i] and (trial[i] > 0.0) != (everything or lam[i] > 0.0):
+            return False
+    for c in range(uR.size):
+        if not jR[c] and (uR_t[c] > 0.0) != (everything or uR[c] > 0.0):
+            return False
+    return True
+
+
+@njit
+def _converged(T, g, fB, fR, grad, bound):
+    """Whether |g - f_B - T f_R| is below ``bound`` times the size of its terms, row by row."""
     r, q = T.shape
     for i in range(r):
         size = abs(g[i]) + abs(fB[i])
         for c in range(q):
             size += abs(T[i, c] * fR[c])
-        if abs(grad[i]) > _CONVERGED * size:
+        if abs(grad[i]) > bound * size:
             return False
     return True

@@ -268,4 +268,13 @@ def _least_norm(first, offset, values, S, b, joint, held, inv_w):
         return None
     f = np.zeros(m)
     f[basis], f[others] = f_basis, f_others
-    return f
+    worst = np.max(np.abs(S @ f + b)[kept])
+    for _ in range(2):  # T may be ill-conditioned: refine a_B = 0 with the basis factor
+        rhs[:] = np.where(kept, S @ f + b, 0.0)
+        solve(first, offset, L, rhs, x)
+        trial = f - x
+        after = np.max(np.abs(S @ trial + b)[kept])
+        if not after < worst:
+            break
+        f, worst = trial, after
+    return np.where(joint, f, np.maximum(f, 0.0))

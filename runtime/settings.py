@@ -62,6 +62,35 @@ WIDTH_DIRECTIONS = 180  # directions over a half turn for a shape's smallest wid
 # support per direction; the width is the depth limit of a plausible penetration)
 
 # -- contact forces (the LCP) ------------------------------------------------------------------
+# The solver works on the scaled problem S = D A D, D = diag(A)^-1/2 (unit diagonal: A in 1/kg,
+# b and a in m/s^2 and f in N all become numbers of one size), so these are pure numbers.
+
+LCP_TOL = 1e-9  # relative, row by row: f solves the LCP if every |a_i| at a clamped row (and
+# -a_i elsewhere) is at most LCP_TOL * (sum_j |A_ij f_j| + |b_i|), the size of the terms a_i is
+# the sum of -- a componentwise backward error: f is exact for an A and b changed by 1e-9 of
+# themselves. Rounding of forming a_i is <= 2.2e-13 of that sum for 1000-row islands (and ~1e-16
+# typically), far below; a pile resting on such forces creeps by < 1e-9 of its weight's
+# acceleration.
+LCP_DEPENDENT = 1e-12  # relative to A_jj: a row whose Schur complement against the clamped rows
+# (its squared distance from their span in the metric of A) is below this depends on them
+# (a redundant contact); rounding leaves ~k * 1e-16 for a truly dependent row among k, while
+# a wedge as tight as the 2 x 2 case (1 - 3e-11 coupling) still has 6e-11.
+LCP_NOISE = 1e-12  # relative to max |Delta f|: entries of a pivoting direction (Delta f, and
+# Delta a of the unit-diagonal S) this small are rounding, not motion, and never limit a step
+LCP_ZERO_ROW = 1e-24  # relative to the largest A_ii: a row below it is one no force can move
+# (a contact between two fixed bodies); 1e-24 resolves any mass ratio up to 1e24
+LCP_LEAST_NORM_DONE = 1e-12  # relative to the size of its terms: the least-norm stage's
+# equations E f = g hold this well when its Newton method has converged (rounding: ~1e-15)
+LCP_LEAST_NORM_ENOUGH = 1e-9  # relative, as above: good enough when rounding stalls the Newton
+# method (ill-conditioned T); the forces still pass the LCP_TOL check or are not used
+LCP_LEAST_NORM_REGULAR = 1e-13  # relative to a row's curvature in the least-norm Newton
+# matrix: keeps it definite when a row is inactive, far below anything that changes the answer
+LCP_PGS_SWEEPS = 200  # projected Gauss-Seidel sweeps of the last fallback, from the best point
+# found, before its clamped set is solved exactly (it only has to find the set)
+LCP_DENSE_MAX = 96  # rows: islands up to this size use the compiled dense solver; larger
+# islands with a sparse A use the sparse path (bench/lcp.py: the dense one costs O(m^3) per
+# cold solve, the sparse one O(m * bandwidth^2))
+LCP_SPARSE_DENSITY = 0.1  # fraction of non-zeros above which a large island is solved dense
 
 LCP_TOL = 1e-9  # relative to the row's scale (|b| and |A||f|): a residual |a| below it is zero
 DENSE_ISLAND = 48  # contacts: islands up to this size are assembled and solved dense in one

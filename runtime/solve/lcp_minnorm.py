@@ -1,0 +1,202 @@
+"""Redundant contacts: the least-norm forces among all solutions, compiled.
+
+Why: with redundant contacts (A singular: a box flat on three floor contacts, a disc wedged in a
+slot) the LCP has a whole polyhedron of solutions. All of them give the same accelerations
+(for positive semi-definite A, a = A f + b is the same for every solution), so every one moves
+the bodies alike, but their forces differ and may be huge and opposed (39 N against 45 N where
+3 N suffice). The policy: return the one of least Euclidean norm (sum of f_i^2, in N^2), which
+is unique (a strictly convex objective over a convex set) and bounded by the data.
+
+Every solution is zero off the held set P (rows with a = 0: joints and touching contacts) and
+solves A_PP f_P = -b_P with f >= 0 at contacts, so the least-norm one solves the least-distance
+problem  min sum w_i f_i^2  s.t.  E f = g,  f_contacts >= 0,  where, for a basis B of P's rows
+(a greedy rank-revealing factorization, runtime.solve.lcp_factor) and R = P \\ B, E = [I, T] with
+T = S_BB^-1 S_BR and g = -S_BB^-1 b_B (the rows of R are combinations of B's). Its dual is
+unconstrained and concave, max_l g.l - 1/2 sum_i w_i^-1 [(E^T l)_i]_+^2 (joints not clipped), with
+f_i = [(E^T l)_i]_+ / w_i: a piecewise quadratic that a Newton method with a line search solves
+exactly once it has found the right pieces (usually in 1-3 steps, the first being the
+unconstrained least-norm solution over P). Scaled forces f~ = sqrt(A_ii) f carry weights
+w_i = 1 / A_ii, so the norm is that of f in N, whatever the scaling.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from runtime import settings
+from runtime.compiled import njit
+from runtime.solve import lcp_factor as fac
+from runtime.solve.lcp_baraff import refine
+
+_STEP_SLOPE = 1e-4  # Armijo: a step must gain this fraction of its first-order promise
+_CONVERGED = settings.LCP_LEAST_NORM_DONE
+_LOOSE = settings.LCP_LEAST_NORM_ENOUGH
+_REGULAR = settings.LCP_LEAST_NORM_REGULAR
+
+
+@njit
+def least_norm(S, b, joint, inv_w, held, count, dependent, f_out):
+    """Write the least-norm solution over ``held[:count]`` into ``f_out`` (0 elsewhere) and
+    return True; False (``f_out`` unspecified) if the held rows are independent -- the solution
+    is then unique -- or the Newton method did not converge."""
+    m = b.size
+    L = np.empty((count, count))
+    rows = np.empty(count, np.int64)
+    row = np.empty(count)
+    k = fac.factor_greedy(S, held, count, L, rows, dependent, row)
+    q = count - k
+    if q == 0:
+        return False
+    basis = np.zeros(m, np.bool_)
+    for c in range(k):
+        basis[rows[c]] = True
+    others = np.empty(q, np.int64)
+    n = 0
+    for c in range(count):
+        if not basis[held[c]]:
+            others[n] = held[c]
+            n += 1
+    T = np.empty((k, q))
+    rhs, x = np.empty(k), np.empty(k)
+    for c in range(q):
+        for i in range(k):
+            rhs[i] = S[rows[i], others[c]]
+        fac.solve(L, k, rhs, x)
+        T[:, c] = x
+    for i in range(k):
+        rhs[i] = -b[rows[i]]
+    g = np.empty(k)
+    fac.solve(L, k, rhs, g)
+    f_basis, f_others = np.empty(k), np.empty(q)
+    done = dual_newton(
+        T, g, inv_w[rows[:k]], inv_w[others], joint[rows[:k]], joint[others], f_basis, f_others
+    )
+    f_out[:] = 0.0
+    for c in range(k):
+        f_out[rows[c]] = f_basis[c]
+    for c in range(q):
+        f_out[others[c]] = f_others[c]
+    if done:  # T may be ill-conditioned: refine a_B = 0 with the basis factor
+        refine(S, b, f_out, L, rows, k)
+    return done
+
+
+@njit
+def _forces(T, g, lam, wB, wR, jB, jR, fB, fR, uR, grad):
+    """f(l) = [E^T l]_+ / w and the dual's gradient g - E f; returns the dual objective."""
+    r, q = T.shape
+    phi = 0.0
+    for i in range(r):
+        phi += g[i] * lam[i]
+        u = lam[i]
+        if jB[i] or u > 0.0:
+            fB[i] = wB[i] * u
+            phi -= 0.5 * wB[i] * u * u
+        else:
+            fB[i] = 0.0
+    for c in range(q):
+        u = 0.0
+        for i in range(r):
+            u += T[i, c] * lam[i]
+        uR[c] = u
+        if jR[c] or u > 0.0:
+            fR[c] = wR[c] * u
+            phi -= 0.5 * wR[c] * u * u
+        else:
+            fR[c] = 0.0
+    for i in range(r):
+        s = g[i] - fB[i]
+        for c in range(q):
+            s -= T[i, c] * fR[c]
+        grad[i] = s
+    return phi
+
+
+@njit
+def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
+    """The least-distance problem min sum f_i^2 / w_i s.t. f_B + T f_R = g, contacts >= 0, by
+    Newton's method on its dual (``w`` here are the inverse weights A_ii / max A_jj). Fills
+    fB, fR; True when |g - f_B - T f_R| is at rounding level. A full step that keeps every row
+    on its piece solves the dual's quadratic there exactly, so it is taken even when rounding
+    hides its gain in the objective; after it only rounding is left."""
+    r, q = T.shape
+    lam, trial, step = np.zeros(r), np.empty(r), np.empty(r)
+    grad, grad_t = np.empty(r), np.empty(r)
+    uR, uR_t = np.empty(q), np.empty(q)
+    fB_t, fR_t = np.empty(r), np.empty(q)
+    H, scratch = np.empty((r, r)), np.empty((r, r))
+    phi = _forces(T, g, lam, wB, wR, jB, jR, fB, fR, uR, grad)
+    everything = True  # the first step: every row active, the unconstrained least norm
+    for _ in range(100):
+        H[:, :] = 0.0
+        for i in range(r):
+            if everything or jB[i] or lam[i] > 0.0:
+                H[i, i] += wB[i]
+        for c in range(q):
+            if everything or jR[c] or uR[c] > 0.0:
+                for i in range(r):
+                    t = wR[c] * T[i, c]
+                    if t != 0.0:
+                        for p in range(r):
+                            H[i, p] += t * T[p, c]
+        top = 0.0
+        for i in range(r):
+            top = max(top, H[i, i])
+        for i in range(r):
+            H[i, i] += _REGULAR * (H[i, i] if H[i, i] > 0.0 else top)
+        if not fac.cholesky_solve(H, grad, step, scratch):
+            return False
+        slope = 0.0
+        for i in range(r):
+            slope += grad[i] * step[i]
+        t = 1.0
+        accepted = same = False
+        for _ in range(60):
+            for i in range(r):
+                trial[i] = lam[i] + t * step[i]
+            phi_t = _forces(T, g, trial, wB, wR, jB, jR, fB_t, fR_t, uR_t, grad_t)
+            same = t == 1.0 and _same_pieces(lam, uR, trial, uR_t, jB, jR, everything)
+            if same or phi_t >= phi + _STEP_SLOPE * t * slope:
+                accepted = True
+                break
+            t *= 0.5
+        if not accepted:
+            return _converged(T, g, fB, fR, grad, _LOOSE)
+        lam[:] = trial
+        fB[:] = fB_t
+        fR[:] = fR_t
+        uR[:] = uR_t
+        grad[:] = grad_t
+        phi = phi_t
+        everything = False
+        if _converged(T, g, fB, fR, grad, _CONVERGED):
+            return True
+        if same:
+            return _converged(T, g, fB, fR, grad, _LOOSE)
+    return False
+
+
+@njit
+def _same_pieces(lam, uR, trial, uR_t, jB, jR, everything):
+    """Whether every row is active at ``trial`` exactly where it was for the last Newton
+    matrix (every row, on the first step)."""
+    for i in range(lam.size):
+        if not jB[i] and (trial[i] > 0.0) != (everything or lam[i] > 0.0):
+            return False
+    for c in range(uR.size):
+        if not jR[c] and (uR_t[c] > 0.0) != (everything or uR[c] > 0.0):
+            return False
+    return True
+
+
+@njit
+def _converged(T, g, fB, fR, grad, bound):
+    """Whether |g - f_B - T f_R| is below ``bound`` times the size of its terms, row by row."""
+    r, q = T.shape
+    for i in range(r):
+        size = abs(g[i]) + abs(fB[i])
+        for c in range(q):
+            size += abs(T[i, c] * fR[c])
+        if abs(grad[i]) > bound * size:
+            return False
+    return True

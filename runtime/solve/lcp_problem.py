@@ -1,0 +1,125 @@
+"""The contact-force problem as the user gives it: validation, and the error when it has no answer.
+
+Why apart from the solver: every entry point (runtime.solve.lcp's solve and solve_warm, the PGS
+reference) must turn bad input into one clear ValueError, and a failure into one
+ContactSolverError that names the rows and the residual, in the user's units -- the compiled
+solver itself only returns status codes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import ArrayLike, NDArray
+
+Array = NDArray[np.float64]
+Mask = NDArray[np.bool_]
+_SYMMETRIC = 1e-8  # relative to sqrt(A_ii A_jj), as in runtime.solve.lcp_dense
+
+
+class ContactSolverError(RuntimeError):
+    """No valid force was found; ``rows`` holds the offending row indices."""
+
+    def __init__(self, message: str, rows: Sequence[int] = ()) -> None:
+        super().__init__(message)
+        self.rows: tuple[int, ...] = tuple(int(r) for r in rows)
+
+
+def prepare(
+    A: ArrayLike | sp.spmatrix | sp.sparray, b: ArrayLike, joint: ArrayLike | None
+) -> tuple[Array | sp.csr_array, Array, Mask]:
+    """(A, b, joint) checked: shapes, finiteness, symmetry, a non-negative diagonal and
+    |A_ij| <= sqrt(A_ii A_jj) (necessary for positive semi-definite A). A stays sparse (CSR)
+    if it was given sparse; a dense A is returned as a C-contiguous float64 copy."""
+    b = np.array(b, dtype=float).reshape(-1)
+    n = b.size
+    if sp.issparse(A):
+        A = sp.csr_array(A, dtype=float)
+        A.sum_duplicates()
+        values, pattern_t = A.data, sp.csr_array(A.T)
+        mismatch = abs(A - pattern_t)
+        diag = A.diagonal()
+    else:
+        A = np.array(A, dtype=float, ndmin=2)
+        if n == 0:
+            A = A.reshape(0, 0)
+        values, diag = A, np.diagonal(A).copy() if A.ndim == 2 else np.zeros(0)
+        mismatch = None
+    if A.shape != (n, n):
+        raise ValueError(f"A has shape {A.shape}, expected ({n}, {n}) to match b")
+    if not (np.all(np.isfinite(values)) and np.all(np.isfinite(b))):
+        raise ValueError("A and b must be finite")
+    if np.any(diag < 0):
+        rows = np.flatnonzero(diag < 0)[:5].tolist()
+        raise ValueError(f"A must be positive semi-definite: negative diagonal at rows {rows}")
+    root = np.sqrt(diag)
+    if sp.issparse(A):
+        coo = mismatch.tocoo()
+        bad = coo.data > _SYMMETRIC * root[coo.row] * root[coo.col]
+        big = A.tocoo()
+        too_big = np.abs(big.data) > (1 + _SYMMETRIC) * root[big.row] * root[big.col]
+    else:
+        bound = np.outer(root, root)
+        bad = np.abs(A - A.T) > _SYMMETRIC * bound
+        too_big = np.abs(A) > (1 + _SYMMETRIC) * bound
+    if np.any(bad):
+        raise ValueError("A must be symmetric (A_ij = A_ji to 1e-8 of sqrt(A_ii A_jj))")
+    if np.any(too_big):
+        raise ValueError("A must be positive semi-definite (|A_ij| <= sqrt(A_ii A_jj))")
+    mask = np.zeros(n, bool) if joint is None else np.asarray(joint, dtype=bool).reshape(-1)
+    if mask.shape != (n,):
+        raise ValueError(f"joint has {mask.size} entries, expected {n}")
+    return A, b, mask
+
+
+def row_names(rows: Sequence[int], joint: Mask, index: Sequence[int] | None = None) -> str:
+    """'contact 3', 'joint 0, contact 2', ... (at most 8 named; ``index`` numbers the rows)."""
+    number = index if index is not None else range(len(joint))
+    names = [f"{'joint' if joint[r] else 'contact'} {number[r]}" for r in rows[:8]]
+    return ", ".join(names) + (f" and {len(rows) - 8} more" if len(rows) > 8 else "")
+
+
+def violations(A, b: Array, joint: Mask, f: Array, tol: float) -> tuple[Array, Array]:
+    """(violation, tolerance) of every row at f: -a at contacts with f = 0, |a| at joints and
+    at contacts with f > 0, against tol * (sum_j |A_ij f_j| + |b_i|)."""
+    a = A @ f + b
+    size = abs(A) @ np.abs(f) + np.abs(b)
+    held = joint | (f > 0)
+    return np.where(held, np.abs(a), -a), tol * size
+
+
+def failure(
+    infeasible: bool,
+    A,
+    b: Array,
+    joint: Mask,
+    f: Array,
+    blame: Mask,
+    tol: float,
+    index: Sequence[int] | None = None,
+) -> ContactSolverError:
+    """The ContactSolverError of a failed solve: the rows to blame and the worst residual at the
+    best point found (rows numbered by ``index``, e.g. an island's rows in the whole problem)."""
+    number = np.arange(b.size) if index is None else np.asarray(index)
+    excess, limit = violations(A, b, joint, f, tol)
+    worst = int(np.argmax(excess - limit)) if b.size else 0
+    rows = np.flatnonzero(blame).tolist() or np.flatnonzero(excess > limit).tolist() or [worst]
+    where = f"{'joint' if joint[worst] else 'contact'} {number[worst]}"
+    residual = (
+        f"residual {excess[worst]:.3g} m/s^2 at {where}, tolerance {limit[worst]:.3g}"
+        if b.size
+        else "no rows"
+    )
+    if infeasible:
+        return ContactSolverError(
+            f"{row_names(rows, joint, number)} cannot be held: infeasible, no forces give a >= 0 "
+            f"at contacts and a = 0 at joints ({residual}, at the best forces found)",
+            number[rows].tolist(),
+        )
+    return ContactSolverError(
+        f"no valid contact forces found for {row_names(rows, joint, number)}: pivoting and its "
+        f"fallbacks failed ({residual})",
+        number[rows].tolist(),
+    )

@@ -92,7 +92,8 @@ LCP_DENSE_MAX = 96  # rows: islands up to this size use the compiled dense solve
 # cold solve, the sparse one O(m * bandwidth^2))
 LCP_SPARSE_DENSITY = 0.1  # fraction of non-zeros above which a large island is solved dense
 
-LCP_TOL = 1e-9  # relative to the row's scale (|b| and |A||f|): a residual |a| below it is zero
+COMPILED = True  # use the compiled frame and integrator stages where they apply (small islands,
+# fixed-step methods); False runs every stage the general way (the same results to rounding)
 DENSE_ISLAND = 48  # contacts: islands up to this size are assembled and solved dense in one
 # compiled call (an A_CC Cholesky of 48 rows costs ~20 us); larger ones go sparse
 

@@ -527,3 +527,23 @@ def batch_rows(poses, velocities, body1, body2, geometry, static2, members, jaco
                 geometry[k, 4],
                 geometry[k, 5],
             )
+
+
+@numba.njit(cache=True)
+def batch_all(
+    poses,
+    velocities,
+    body1,
+    body2,
+    geometry,
+    static2,
+    members,
+    gap_out,
+    rate_out,
+    jacobian_out,
+    bias_out,
+):
+    """d, d', the Jacobian row and the bias of contact k, for k in members."""
+    batch_gap(poses, body1, body2, geometry, members, gap_out)
+    batch_gap_velocity(poses, velocities, body1, body2, geometry, static2, members, rate_out)
+    batch_rows(poses, velocities, body1, body2, geometry, static2, members, jacobian_out, bias_out)

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from runtime.compiled import njit
+from runtime.solve.lcp_dense import OK, solve_dense
 
 
 @njit
@@ -189,6 +190,23 @@ def solve_small_islands(
             ok[g] = False
             continue
         island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A)
-        ok[g] = solve_with_guess(
-            A, rates[start:stop], stop - start, guess[start:stop], tol, forces[start:stop]
-        )
+        K, b, f = stop - start, rates[start:stop], forces[start:stop]
+        if solve_with_guess(A, b, K, guess[start:stop], tol, f):
+            ok[g] = True
+        else:  # the clamped set changed: the dense solver finds the new one
+            ok[g] = dense_lcp(
+                np.ascontiguousarray(A[:K, :K]), b.copy(), np.zeros(K, np.bool_),
+                guess[start:stop], f,
+            )  # fmt: skip
+
+
+@njit
+def dense_lcp(A, b, joint, guess, f):
+    """The mixed LCP of one small island (joint rows bilateral) by the compiled dense solver
+    (runtime.solve.lcp_dense, warm-started from ``guess``, which gets the new clamped set),
+    written to f; False if it has no solution."""
+    clamped = np.empty(b.size, np.bool_)
+    if solve_dense(A, b, joint, guess, 0.0, f, clamped) != OK:
+        return False
+    guess[:] = clamped
+    return True

@@ -8,7 +8,8 @@ solved in one compiled call (runtime.solve.assembly), first with the clamped set
 solve (the set of contacts that carry a force almost never changes from one integrator stage
 or step to the next, so that guess is usually the answer: one Cholesky factorization); an
 island whose guess fails, or that is large, goes to the pivoting solver, and its clamped set is
-remembered for the next solve.
+remembered for the next solve (runtime.solve.lcp: the compiled dense solver, warm-started,
+for small islands; the sparse path for large ones).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import sparse
 
 from runtime import settings
 from runtime.collide.contact_set import Contacts
@@ -118,46 +120,18 @@ class ContactForces:
             jac, b1, b2, bias, self.inverse_mass, self.fixed, self.free_acceleration, offsets,
             problem.guess, settings.LCP_TOL, settings.DENSE_ISLAND, forces, rates, solved,
         )  # fmt: skip
-        for g in np.flatnonzero(~solved):
+        for g in np.flatnonzero(~solved):  # large islands (sparse), or no solution (named)
             start, stop = int(offsets[g]), int(offsets[g + 1])
             A = np.empty((stop - start, stop - start))
             assembly.island_matrix(jac, b1, b2, self.inverse_mass, self.fixed, start, stop, A)
-            guess = problem.guess[start:stop]
-            f = (
-                _with_guess(A, rates[start:stop], guess)
-                if stop - start > settings.DENSE_ISLAND
-                else None
-            )
-            if f is None:
-                try:
-                    f = lcp.solve(A, rates[start:stop])
-                except lcp.ContactSolverError as exc:
-                    rows_named = [start + r for r in exc.rows]
-                    raise lcp.ContactSolverError(str(exc), rows_named) from None
-                guess[:] = f > 0.0
+            try:
+                f, clamped = lcp.solve_warm(
+                    sparse.csr_array(A), rates[start:stop], guess=problem.guess[start:stop]
+                )
+            except lcp.ContactSolverError as exc:
+                rows_named = [start + r for r in exc.rows]
+                raise lcp.ContactSolverError(str(exc), rows_named) from None
             forces[start:stop] = f
+            problem.guess[start:stop] = clamped
         assembly.add_forces(jac, b1, b2, self.inverse_mass, forces, acc)
         return ForceSolution(acc, forces, rates)
-
-
-def _with_guess(A: np.ndarray, b: np.ndarray, guess: np.ndarray) -> np.ndarray | None:
-    """The guess tried on a large island with LAPACK's Cholesky (the compiled loops are for
-    small ones): f >= 0 with a = A f + b = 0 on the guess and >= 0 elsewhere, each to
-    settings.LCP_TOL of its row's scale; None if the guess does not give that."""
-    from scipy.linalg import LinAlgError, cho_factor, cho_solve
-
-    f = np.zeros(b.size)
-    if guess.any():
-        try:
-            factor = cho_factor(A[np.ix_(guess, guess)], check_finite=False)
-        except LinAlgError:
-            return None
-        f_c = cho_solve(factor, -b[guess], check_finite=False)
-        if not np.all(f_c >= 0.0):
-            return None
-        f[guess] = f_c
-    a = A @ f + b
-    scale = settings.LCP_TOL * (np.abs(b) + np.abs(A) @ f)
-    if np.all(np.abs(a[guess]) <= scale[guess]) and np.all(a[~guess] >= -scale[~guess]):
-        return f
-    return None

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from runtime import settings
+from runtime.compiled import njit
 from runtime.solve import assembly, lcp
 
 
@@ -46,7 +47,53 @@ class IslandImpact:
     impulses: np.ndarray  # (K,) total normal impulse per contact
     gap_velocity: np.ndarray  # (K,) d' after the impact
     waves: int  # restitution waves used
-    inelastic_pass: bool  # whether the final plastic pass changed anything
+
+
+@njit
+def impulse_lcp(A, b, p):
+    """p >= 0 with A p + b >= 0, complementary, written to p: first guessing that every
+    contact takes an impulse (true for most impacts: they are all approaching), else by the
+    dense solver. False if it has no solution."""
+    every = np.ones(b.size, np.bool_)
+    if assembly.solve_with_guess(A, b, b.size, every, settings.LCP_TOL, p):
+        return True
+    return assembly.dense_lcp(A, b, np.zeros(b.size, np.bool_), every, p)
+
+
+@njit
+def resolve_island(A, rate, restitution, resting_speed, creep_speed, total):
+    """Impulses (added to ``total``) for the touching contacts of one island with
+    effective-mass matrix A and rates ``rate`` (updated: d' after the impacts), by the policy
+    of the module docstring. Returns the number of restitution waves, -1 if an impulse problem
+    has no solution."""
+    waves = 0
+    while waves < settings.MAX_WAVES:
+        wave = np.flatnonzero(rate < -resting_speed)
+        if wave.size == 0:
+            break
+        waves += 1
+        sub = np.ascontiguousarray(A[wave][:, wave])
+        p = np.zeros(wave.size)
+        if not impulse_lcp(sub, (1.0 + restitution[wave]) * rate[wave], p):
+            return -1
+        total[wave] += p
+        rate += A[:, wave] @ p
+    if not np.any(rate < -creep_speed):
+        return waves
+    chosen = rate < -creep_speed  # the approaching, grown by those the impulses make approach
+    while True:
+        idx = np.flatnonzero(chosen)
+        p = np.zeros(idx.size)
+        if not impulse_lcp(np.ascontiguousarray(A[idx][:, idx]), rate[idx].copy(), p):
+            return -1
+        after = rate + A[:, idx] @ p
+        more = (after < -creep_speed) & ~chosen
+        if not np.any(more):
+            break
+        chosen |= more
+    total[idx] += p
+    rate[:] = after
+    return waves
 
 
 def resolve(
@@ -55,46 +102,15 @@ def resolve(
     restitution: np.ndarray,
     resting_speed: float,
     creep_speed: float,
-    max_waves: int = settings.MAX_WAVES,
 ) -> IslandImpact:
-    """Impulses for the touching contacts of one island with effective-mass matrix ``A`` and
-    rates ``gap_velocity`` (the policy of the module docstring)."""
-    dv = np.array(gap_velocity, dtype=float)
-    e = np.asarray(restitution, dtype=float)
-    total = np.zeros_like(dv)
-    waves = 0
-    while waves < max_waves:
-        wave = np.flatnonzero(dv < -resting_speed)
-        if wave.size == 0:
-            break
-        waves += 1
-        p = impulse_lcp(A[np.ix_(wave, wave)], (1.0 + e[wave]) * dv[wave])
-        total[wave] += p
-        dv += A[:, wave] @ p
-    plastic = bool(np.any(dv < -creep_speed))
-    if plastic:  # over the approaching contacts and those their impulses make approach
-        chosen = dv < -creep_speed
-        while True:
-            idx = np.flatnonzero(chosen)
-            p = impulse_lcp(A[np.ix_(idx, idx)], dv[idx])
-            after = dv + A[:, idx] @ p
-            more = (after < -creep_speed) & ~chosen
-            if not more.any():
-                break
-            chosen |= more
-        total[idx] += p
-        dv = after
-    return IslandImpact(total, dv, waves, plastic)
-
-
-def impulse_lcp(A: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """p >= 0 with A p + b >= 0, complementary: first guessing that every contact takes an
-    impulse (true for most impacts: they are all approaching), else by pivoting."""
-    p = np.zeros(b.size)
-    every = np.ones(b.size, dtype=bool)
-    if assembly.solve_with_guess(np.ascontiguousarray(A), b, b.size, every, settings.LCP_TOL, p):
-        return p
-    return lcp.solve(A, b)
+    """Impulses for the touching contacts of one island (:func:`resolve_island`)."""
+    rate = np.array(gap_velocity, dtype=float)
+    total = np.zeros_like(rate)
+    waves = resolve_island(np.ascontiguousarray(A, dtype=float), rate,
+                           np.asarray(restitution, dtype=float), resting_speed, creep_speed, total)  # fmt: skip
+    if waves < 0:
+        raise lcp.ContactSolverError("the impulses of an impact have no solution", [])
+    return IslandImpact(total, rate, waves)
 
 
 def simultaneous(

@@ -41,6 +41,7 @@ import numpy as np
 
 from runtime import settings
 from runtime.collide.contact_set import Contacts
+from runtime.compiled import njit
 from runtime.solve import assembly, impulses
 from runtime.solve.islands import body_islands, contact_islands, grouped
 from runtime.solve.rows import Rows
@@ -79,6 +80,25 @@ class Limits:
         return cls(touch, hold, resting_speed, resting_speed, settings.CREEP * resting_speed)
 
 
+@njit
+def classify_modes(gap, rate, touch, hold_gap, resting_speed, separation_speed, held, out):
+    """out[k] = the mode of contact k from its gap d and rate d' (the module docstring);
+    ``held``: whether it was resting in the frame before."""
+    for k in range(gap.size):
+        d, r = gap[k], rate[k]
+        touching = d <= touch
+        if held[k] and not touching and d <= hold_gap:  # drifted open, still within reach
+            touching = -separation_speed <= r <= resting_speed
+        if not touching:
+            out[k] = OPEN
+        elif r < -resting_speed:
+            out[k] = COLLIDING
+        elif r <= (resting_speed if held[k] else separation_speed):
+            out[k] = RESTING
+        else:
+            out[k] = SEPARATING
+
+
 def classify(
     gap: np.ndarray,
     gap_velocity: np.ndarray,
@@ -86,23 +106,12 @@ def classify(
     held: np.ndarray | None = None,
 ) -> np.ndarray:
     """Mode of each contact (an int array of :class:`Mode`); ``held``: contacts resting before."""
-    touching = gap <= limits.touch
-    limit: float | np.ndarray = limits.separation_speed
-    if held is not None and held.any():
-        drifted = held & ~touching & (gap <= limits.hold_gap)
-        touching = touching | (
-            drifted
-            & (gap_velocity >= -limits.separation_speed)
-            & (gap_velocity <= limits.resting_speed)
-        )
-        limit = np.where(held, limits.resting_speed, limits.separation_speed)
-    mode = np.where(
-        gap_velocity < -limits.resting_speed,
-        COLLIDING,
-        np.where(gap_velocity <= limit, RESTING, SEPARATING),
-    )
-    mode[~touching] = OPEN
-    return mode
+    gap = np.ascontiguousarray(gap, dtype=float)
+    held = np.zeros(gap.size, dtype=bool) if held is None else np.asarray(held, dtype=bool)
+    out = np.empty(gap.size, dtype=np.int64)
+    classify_modes(gap, np.ascontiguousarray(gap_velocity, dtype=float), limits.touch,
+                   limits.hold_gap, limits.resting_speed, limits.separation_speed, held, out)  # fmt: skip
+    return out
 
 
 @dataclass
@@ -182,12 +191,14 @@ def make_frame(
     held: set,
     limits: Limits,
     recent: set | frozenset = frozenset(),
+    keys: list[tuple] | None = None,
 ) -> Frame:
     """Classify ``contacts`` (``held``: keys of the contacts resting before) and resolve the
     impacts among the touching ones, island by island. A contact of ``recent`` (resting at the
     end of the last step) that collides is a resting contact that drifted open, not a
     collision: plastic."""
-    keys = list(map(tuple, contacts.keys().tolist()))
+    if keys is None:
+        keys = list(map(tuple, contacts.keys().tolist()))
     rows = evaluator.rows(contacts, poses, velocities)
     modes = classify(rows.gap, rows.gap_velocity, limits, member(keys, held))
     m = len(contacts)

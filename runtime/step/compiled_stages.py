@@ -18,6 +18,7 @@ import numpy as np
 
 from runtime.compiled import njit
 from runtime.solve import assembly
+from runtime.solve.kernel_set import rows_by_case
 
 METHOD_ID = {"euler": 0, "midpoint": 1, "rk4": 2}
 
@@ -35,18 +36,7 @@ def accelerations(
         return True
     jac = np.zeros((m, 6))
     bias = np.zeros(m)
-    members = np.flatnonzero(case == 0)
-    if members.size:
-        k0(q, v, body1, body2, geometry, static2, members, jac, bias)
-    members = np.flatnonzero(case == 1)
-    if members.size:
-        k1(q, v, body1, body2, geometry, static2, members, jac, bias)
-    members = np.flatnonzero(case == 2)
-    if members.size:
-        k2(q, v, body1, body2, geometry, static2, members, jac, bias)
-    members = np.flatnonzero(case == 3)
-    if members.size:
-        k3(q, v, body1, body2, geometry, static2, members, jac, bias)
+    rows_by_case(k0, k1, k2, k3, q, v, case, body1, body2, geometry, static2, jac, bias)
     if not (np.all(np.isfinite(jac)) and np.all(np.isfinite(bias))):
         return False
     ok = np.zeros(offsets.size - 1, np.bool_)

@@ -29,7 +29,8 @@ from dataclasses import replace
 import numpy as np
 
 from runtime import settings
-from runtime.solve import assembly, lcp
+from runtime.compiled import njit
+from runtime.solve import assembly
 from runtime.solve.islands import body_islands, contact_islands, grouped
 from runtime.step.classify import LIFTING, RESTING, Bodies, Frame
 
@@ -89,10 +90,20 @@ def _gap_acceleration(frame: Frame, which: np.ndarray, acc: np.ndarray) -> np.nd
     return out
 
 
+@njit
+def press_island(A, rate, joint, p):
+    """Impulses p (written) of one island of resting contacts with effective-mass matrix A and
+    rates ``rate``: d' = 0 on the ``joint`` rows (the pressed contacts: impulses of either
+    sign), d' >= 0 with impulses >= 0 on the others -- the mixed LCP (A, rate), warm-started
+    with the pressed rows clamped. False if the pressed rows are inconsistent (dependent rows
+    asked for different speeds)."""
+    return assembly.dense_lcp(A, rate, joint, joint.copy(), p)
+
+
 def _press(frame: Frame, which: np.ndarray, bodies: Bodies) -> Frame | None:
     """The frame with d' = 0 on the contacts ``which`` and d' >= 0 on the other resting
-    contacts of their islands, by normal impulses (of either sign on ``which``); None if the
-    solver finds the pressed contacts inconsistent (dependent rows asked for different speeds)."""
+    contacts of their islands, by normal impulses (press_island, island by island); None if
+    the pressed contacts are inconsistent."""
     rest = frame.resting
     rows = frame.rows.take(rest)
     n = len(bodies.fixed)
@@ -112,12 +123,9 @@ def _press(frame: Frame, which: np.ndarray, bodies: Bodies) -> Frame | None:
         start, stop = int(offsets[g]), int(offsets[g + 1])
         A = np.empty((stop - start, stop - start))
         assembly.island_matrix(jac, b1, b2, bodies.inverse_mass, bodies.fixed, start, stop, A)
-        part = _active_set(A, rate[start:stop], joint[start:stop])
-        if part is None:
-            try:
-                part = lcp.solve(A, rate[start:stop], joint=joint[start:stop])
-            except lcp.ContactSolverError:
-                return None
+        part = np.zeros(stop - start)
+        if not press_island(A, rate[start:stop].copy(), joint[start:stop].copy(), part):
+            return None
         p[start:stop] = part
     dv = np.zeros((n, 3))
     assembly.add_forces(jac, b1, b2, bodies.inverse_mass, p, dv)
@@ -132,27 +140,3 @@ def _press(frame: Frame, which: np.ndarray, bodies: Bodies) -> Frame | None:
         impulses=impulses,
         impact_loss=frame.impact_loss + loss,
     )
-
-
-def _active_set(
-    a_matrix: np.ndarray, b: np.ndarray, joint: np.ndarray, tries: int = 8
-) -> np.ndarray | None:
-    """The press problem by a few block pivots (linear solves): start with impulses on the
-    pressed ``joint`` rows only, add the resting rows left approaching, drop those with a
-    negative impulse, until the solution checks; None if it does not within ``tries``."""
-    scale = settings.LCP_TOL * float(np.max(np.abs(b), initial=0.0))
-    active = joint.copy()
-    for _ in range(tries):
-        try:
-            p_active = np.linalg.solve(a_matrix[np.ix_(active, active)], -b[active])
-        except np.linalg.LinAlgError:
-            return None
-        p = np.zeros_like(b)
-        p[active] = p_active
-        a = a_matrix @ p + b
-        negative = active & ~joint & (p < 0.0)
-        approach = ~active & (a < -scale)
-        if not negative.any() and not approach.any():
-            return p if np.all(np.abs(a[active]) <= scale) else None
-        active = (active & ~negative) | approach
-    return None

@@ -37,11 +37,11 @@ from runtime.collide import sweep
 from runtime.collide.features import features
 from runtime.compiled import Bound
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution, Stabilisation
-from runtime.solve.islands import body_islands, contact_islands
-from runtime.solve.kernel_set import row_kernels
-from runtime.solve.rows import RowEvaluator
-from runtime.step import compiled_stages
-from runtime.step.classify import RESTING, Bodies, Frame, Limits, make_frame
+from runtime.solve.islands import body_islands, contact_islands, grouped
+from runtime.solve.kernel_set import frame_kernels, row_kernels
+from runtime.solve.rows import RowEvaluator, Rows
+from runtime.step import compiled_frame, compiled_stages
+from runtime.step.classify import LIFTING, RESTING, Bodies, Frame, Limits, make_frame, member
 from runtime.step.collision import Collision
 from runtime.step.events import EventSearch
 from runtime.step.integrators import FIXED_STEP, Trajectory
@@ -109,10 +109,14 @@ class Stepper:
         self._limits: dict[float, Limits] = {}
         self.evaluations = 0  # right-hand-side evaluations (integrator stages)
         self.ovals = self.collision.finder.has_ovals
-        self.compiled = method in FIXED_STEP and stabilisation is None and not self.ovals
+        self.compiled = (
+            settings.COMPILED and method in FIXED_STEP and stabilisation is None and not self.ovals
+        )
         if self.compiled:
             self.kernels = row_kernels(scene.contact_cases())
+            self.frame_kernels = frame_kernels(scene.contact_cases())
             self._step = Bound(compiled_stages.step)
+            self._frame_call = Bound(compiled_frame.settle_frame)
             self._method_id = compiled_stages.METHOD_ID[method]
 
     # -- stages ----------------------------------------------------------------------------
@@ -128,21 +132,71 @@ class Stepper:
             )
         return self._limits[h]
 
-    def frame(self, q, v, h, limits: Limits, active=None, margin=None) -> Frame:
-        """Stages 1 and 2: the contacts that can close within h, classified, impacts resolved."""
+    def settled_frame(
+        self, q, v, h, limits: Limits, active=None, margin=None
+    ) -> tuple[Frame, RestingSolution]:
+        """Stages 1 to 4: the contacts that can close within h, classified, impacts resolved,
+        resting contacts pressed or lifting, and the resting forces -- in one compiled call
+        when every island is small (runtime.step.compiled_frame), else stage by stage."""
         if margin is None:
             margin = sweep.margins(v, h, self.radii, self.moving, self.gravity)
         contacts = self.collision.swept(q, margin, active)
-        frame = make_frame(
-            self.evaluator, self.bodies, contacts, q, v, margin, self.held, limits, self.recent
-        )
-        self._hold(frame, active)
-        return frame
+        keys = list(map(tuple, contacts.keys().tolist()))
+        done = self._compiled_frame(contacts, keys, q, v, margin, limits) if self.compiled else None
+        if done is None:
+            frame = make_frame(self.evaluator, self.bodies, contacts, q, v, margin, self.held,
+                               limits, self.recent, keys)  # fmt: skip
+            done = settle(frame, partial(self.solve, q), self.bodies, limits.creep_speed)
+        self._hold(done[0], active)
+        return done
+
+    def _compiled_frame(self, contacts, keys, q, v, margin, limits: Limits):
+        """(frame, resting solution) by runtime.step.compiled_frame, or None if an island is
+        too large or has no solution (the general path then takes it, and names a failure)."""
+        m = len(contacts)
+        if m == 0:
+            return None
+        held, recent = member(keys, self.held), member(keys, self.recent)
+        guess = np.array([self.forces.memory.get(k, False) for k in keys], dtype=bool)
+        gap, rate, bias = np.empty(m), np.empty(m), np.empty(m)
+        jac = np.empty((m, 6))
+        modes = np.empty(m, np.int64)
+        impulses, forces, rates = np.zeros(m), np.zeros(m), np.zeros(m)
+        velocities, acc = v.copy(), np.empty_like(v)
+        b = self.bodies
+        ok, loss = self._frame_call(
+            *self.frame_kernels, q, contacts.case, contacts.body1, contacts.body2,
+            contacts.geometry, np.ascontiguousarray(self.fixed[contacts.body2]), held, recent,
+            b.restitution, b.mass, b.inverse_mass, b.fixed, self.forces.free_acceleration,
+            (limits.touch, limits.hold_gap, limits.resting_speed, limits.separation_speed,
+             limits.creep_speed),
+            settings.LCP_TOL, settings.DENSE_ISLAND, settings.SETTLE_ROUNDS,
+            velocities, gap, rate, jac, bias, modes, impulses, guess, forces, rates, acc,
+        )  # fmt: skip
+        if not ok:
+            return None
+        rows = Rows(gap, rate, jac, bias, contacts.body1, contacts.body2)
+        frame = Frame(contacts, keys, rows, modes, velocities, margin, impulses, loss)
+        rest = frame.resting
+        resting = contacts.take(rest)
+        labels = contact_islands(
+            body_islands(self.n, resting.body1, resting.body2, self.fixed),
+            resting.body1, resting.body2, self.fixed,
+        )  # fmt: skip
+        order, offsets = grouped(labels)
+        rest_keys = [keys[k] for k in rest]
+        problem = ForceProblem(
+            resting.take(order), order, offsets, guess[rest][order], labels[order],
+            [rest_keys[k] for k in order],
+        )  # fmt: skip
+        self.forces.memory.update(zip(rest_keys, guess[rest].tolist(), strict=True))
+        return frame, RestingSolution(problem, acc, forces[rest], rates[rest])
 
     def _hold(self, frame: Frame, active) -> None:
-        """Remember the frame's resting contacts (for the hysteresis of the next frame); those
-        of bodies outside ``active`` stay as they were."""
-        resting = {frame.keys[k] for k in frame.resting}
+        """Remember the frame's resting (and lifting) contacts, for the hysteresis of the next
+        frame; those of bodies outside ``active`` stay as they were."""
+        held = np.flatnonzero((frame.modes == RESTING) | (frame.modes == LIFTING))
+        resting = {frame.keys[k] for k in held}
         if active is None:
             self.held = resting
             return
@@ -242,8 +296,7 @@ class Stepper:
                 moved = sweep.displacement(reach[0], q, self.radii)
                 if active is not None and np.any((moved + margin > reach[1])[active]):
                     raise _Merge
-            frame = self.frame(q, v, remaining, limits, active, margin)
-            frame, resting = settle(frame, partial(self.solve, q), self.bodies, limits.creep_speed)
+            frame, resting = self.settled_frame(q, v, remaining, limits, active, margin)
             report.impact_loss += frame.impact_loss
             if report.frame is None:
                 self._record_first(report, q, frame, resting)
@@ -323,9 +376,7 @@ class Stepper:
         """The frame at (q, v) with no time to move (the contacts touching now, with the limits
         of steps of h), settled, and its resting forces: what a record at the end of a run
         shows."""
-        limits = self.limits(h)
-        frame = self.frame(q, v, 0.0, limits)
-        return settle(frame, partial(self.solve, q), self.bodies, limits.creep_speed)
+        return self.settled_frame(q, v, 0.0, self.limits(h))
 
 
 class _IslandTrajectories:

@@ -36,6 +36,7 @@ import numpy as np
 import pytest
 
 import runtime
+from runtime import settings
 from runtime.io.scene_file import SceneError, load_scene, scene_from_dict
 from runtime.model import shapes
 from runtime.solve.forces import ContactForces
@@ -642,7 +643,8 @@ def _small_scene():
 
 def _fail_from(monkeypatch, call: int, make_error):
     """Make the forces stage (ContactForces.solve) raise (or return garbage) from its
-    ``call``-th call on."""
+    ``call``-th call on (every stage the general way: settings.COMPILED off)."""
+    monkeypatch.setattr(settings, "COMPILED", False)
     real = ContactForces.solve
     calls = {"n": 0}
 
@@ -677,6 +679,7 @@ def _check_failure(exc, reference, bodies: tuple[str, ...]) -> int:
 
 
 def test_contact_solver_failure_is_a_simulation_error_keeping_the_state(monkeypatch):
+    monkeypatch.setattr(settings, "COMPILED", False)
     reference = runtime.simulate(_small_scene())
     sample = {"n": 0}
     real = ContactForces.solve

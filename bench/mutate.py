@@ -11,7 +11,7 @@ Prints killed/survived per mutant (with the test that killed it), the survivors 
 and writes the "## Mutation testing" section of bench/README.md. Exit status 1 when the score is
 below --min-score or a mutant no longer applies (its text is gone: update bench/mutants.py).
 
-    python -m bench.mutate                        # every mutant (~15-25 minutes on 2 cores)
+    python -m bench.mutate                        # every mutant (~5 minutes on 2 cores)
     python -m bench.mutate --only circle_circle   # mutants whose name contains the text
     python -m bench.mutate --list
 """
@@ -31,7 +31,7 @@ from pathlib import Path
 
 from bench.machine import cpu
 from bench.markdown import replace_section
-from bench.mutants import LEFT_OUT, MUTANTS, SURVIVOR_NOTES, Mutant
+from bench.mutants import MUTANTS, NOTES, SURVIVOR_NOTES, Mutant
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "bench" / "README.md"
@@ -178,14 +178,15 @@ def section(outcomes: list[Outcome], wall: float, load: tuple[float, float]) -> 
         "|---|---|---|---|",
     ]
     for o in outcomes:
-        caught = o.detail.replace("|", "\\|") if o.killed else ""
-        lines.append(f"| `{o.mutant.name}` | {o.mutant.what} | {o.status} | {caught} |")
+        caught = o.detail if o.killed else ""
+        cells = (f"`{o.mutant.name}`", o.mutant.what, o.status, caught)
+        lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     survivors = [o for o in outcomes if not o.killed]
     lines += ["", "Survivors:" if survivors else "No survivors."]
     for o in survivors:
         note = SURVIVOR_NOTES.get(o.mutant.name, "not explained yet: a missing test")
         lines.append(f"- `{o.mutant.name}` ({o.status}): {note}")
-    return "\n".join([*lines, "", LEFT_OUT]) + "\n"
+    return "\n".join([*lines, "", NOTES]) + "\n"
 
 
 def main(argv: list[str] | None = None) -> int:

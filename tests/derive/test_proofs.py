@@ -22,6 +22,7 @@ BIAS = "the bias (b term)"
 JACOBIAN = "the Jacobian row J"
 LEVERS = "J = (n, R1 x n"
 NOTE = "(note eq."
+KINDS = (WHOLE, BIAS, JACOBIAN, LEVERS, NOTE)
 
 
 @functools.cache
@@ -35,19 +36,14 @@ def derived(request):
 
 
 def _failing(d) -> set[str]:
-    """Which kinds of proof fail (by the marks above)."""
+    """Which kinds of proof fail (by the words of their statements above)."""
     failed = [p.statement for p in proofs.proofs_for(d) if not p.holds]
-    return {
-        mark for mark in (WHOLE, BIAS, JACOBIAN, LEVERS, NOTE) if any(mark in s for s in failed)
-    }
+    return {kind for kind in KINDS if any(kind in s for s in failed)}
 
 
 def test_every_proof_holds(derived):
     found = proofs.proofs_for(derived)
-    kinds = {
-        mark for mark in (WHOLE, BIAS, JACOBIAN, LEVERS, NOTE) for p in found if mark in p.statement
-    }
-    assert kinds == {WHOLE, BIAS, JACOBIAN, LEVERS, NOTE}
+    assert {kind for kind in KINDS for p in found if kind in p.statement} == set(KINDS)
     failing = [p.statement for p in found if not p.holds]
     assert not failing, failing
 
@@ -55,10 +51,6 @@ def test_every_proof_holds(derived):
 def _flip(expr: sp.Expr, term: sp.Expr) -> sp.Expr:
     """expr with the sign of `term` flipped (term must appear as a product factor)."""
     return expr.subs(term, -term)
-
-
-def _named(stem: str) -> tuple[sp.Symbol, sp.Symbol]:
-    return sym(f"{stem.replace('?', 'x')}"), sym(f"{stem.replace('?', 'y')}")
 
 
 @pytest.mark.parametrize("case", ["vertex_circle", "circle_circle"])
@@ -75,8 +67,7 @@ def test_centripetal_sign_flip_is_caught(case):
 def test_dropped_velocity_term_is_caught(case):
     """d'' of a straight edge without its 2 n'.v' term (the note's factor 2 lost): caught."""
     d = _derive(case)
-    nx_t, ny_t = _named("n_?_t")
-    vx_t, vy_t = _named("v_?_t")
+    nx_t, ny_t, vx_t, vy_t = map(sym, ("n_x_t", "n_y_t", "v_x_t", "v_y_t"))
     dropped = sp.expand(d.gap_acceleration - (nx_t * vx_t + ny_t * vy_t))
     assert sp.expand(d.gap_acceleration - dropped - (nx_t * vx_t + ny_t * vy_t)) == 0
     wrong = dataclasses.replace(d, gap_acceleration=dropped)

@@ -1,12 +1,13 @@
 # make        : set up .venv, regenerate equations, code and docs, run a demo scene
 # make test   : set up .venv and run the tests (incl. the stale check and the PDF build)
 # make bench  : kernel, contact-finding and step benchmarks (bench/README.md); make report : work-precision report
+# make mutate : mutation testing (bench/mutants.py; ~20 min, not part of make test)
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 DEMO ?= scenes/disc_in_bowl.toml
 
-.PHONY: all setup tex regenerate docs demo test pdf-check lint bench report soak clean
+.PHONY: all setup tex regenerate docs demo test pdf-check lint bench report soak mutate clean
 
 all: regenerate demo
 
@@ -71,6 +72,10 @@ report: setup
 
 soak: setup
 	$(PY) -m bench.soak
+
+# Each mutant of bench/mutants.py against the tests that should catch it, in a scratch copy.
+mutate: setup
+	$(PY) -m bench.mutate
 
 clean:
 	rm -rf out .pytest_cache .ruff_cache

@@ -1,4 +1,9 @@
-"""`regenerate-equations`: derive every case, write generated/ and docs/derivations.tex (+ PDF)."""
+"""`regenerate-equations`: derive every case, write generated/ and docs/derivations.tex (+ PDF).
+
+A subset (`--cases`) writes those cases' kernels and the case lists only: the document covers
+every case, so only a full run writes (or checks) it. This module imports nothing beyond the
+standard library until the derive extra (SymPy, Jinja2, mpmath, ruff) is known to be installed.
+"""
 
 from __future__ import annotations
 
@@ -7,41 +12,59 @@ import sys
 import time
 from pathlib import Path
 
-from derive.cases import ALL_CASES
-from derive.generate import ROOT, generate, render_compiled_init, render_init
-
 GENERATED_MARK = "DO NOT EDIT"
+ROOT = Path(__file__).resolve().parent.parent
+CASE_NAMES = ("vertex_edge", "vertex_circle", "circle_edge", "circle_circle")
+EXTRA = ("sympy", "jinja2", "mpmath", "ruff")
+
+
+def _require_derive_extra() -> None:
+    for module in EXTRA:
+        try:
+            __import__(module)
+        except ImportError:
+            raise SystemExit(
+                f"regenerate-equations needs {module}, which is not installed: "
+                "pip install 'curved-edge-physics[derive]'"
+            ) from None
 
 
 def _parse_cases(text: str | None) -> list[str]:
     if not text:
-        return list(ALL_CASES)
+        return list(CASE_NAMES)
     names = [n.strip() for n in text.split(",") if n.strip()]
     if not names:
         raise SystemExit(
-            f"regenerate-equations: --cases names no case; valid cases: {', '.join(ALL_CASES)}"
+            f"regenerate-equations: --cases names no case; valid cases: {', '.join(CASE_NAMES)}"
         )
-    unknown = [n for n in names if n not in ALL_CASES]
+    unknown = [n for n in names if n not in CASE_NAMES]
     if unknown:
         raise SystemExit(
             f"regenerate-equations: unknown case(s) {', '.join(unknown)}; "
-            f"valid cases: {', '.join(ALL_CASES)}"
+            f"valid cases: {', '.join(CASE_NAMES)}"
         )
     return names
 
 
+def _whole(names: list[str]) -> bool:
+    return set(names) == set(CASE_NAMES)
+
+
 def _planned_files(args, names: list[str]) -> dict[Path, str]:
-    from derive.document import render
+    from derive.generate import generate, render_compiled_init, render_init
 
     results = generate(names)
     code_dir, docs_dir = Path(args.code_dir), Path(args.docs_dir)
     files = {code_dir / f"{name}.py": r.source for name, r in results.items()}
-    present = {p.stem for p in code_dir.glob("*.py") if p.stem in ALL_CASES}
-    cases_listed = sorted(set(names) | (present if len(names) < len(ALL_CASES) else set()))
+    present = {p.stem for p in code_dir.glob("*.py") if p.stem in CASE_NAMES}
+    cases_listed = sorted(set(names) | (set() if _whole(names) else present))
     files.update({code_dir / "compiled" / f"{n}.py": r.compiled_source for n, r in results.items()})
     files[code_dir / "__init__.py"] = render_init(cases_listed)
     files[code_dir / "compiled" / "__init__.py"] = render_compiled_init(cases_listed)
-    files[docs_dir / "derivations.tex"] = render(results)
+    if _whole(names):
+        from derive.document import render
+
+        files[docs_dir / "derivations.tex"] = render(results)
     failed = [p.statement for r in results.values() for p in r.proofs if not p.holds]
     if failed:
         raise SystemExit("regenerate-equations: proofs fail:\n  " + "\n  ".join(failed))
@@ -74,10 +97,14 @@ def _write(files: dict[Path, str], force: bool) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="regenerate-equations", description=__doc__)
+    parser = argparse.ArgumentParser(
+        prog="regenerate-equations", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--check", action="store_true", help="exit 1 if any output is stale")
     parser.add_argument(
-        "--cases", help="comma-separated cases (default: all): " + ", ".join(ALL_CASES)
+        "--cases",
+        help="comma-separated cases (default: all; a subset leaves the document as it is): "
+        + ", ".join(CASE_NAMES),
     )
     parser.add_argument("--code-dir", default=str(ROOT / "generated"), help="kernel output folder")
     parser.add_argument("--docs-dir", default=str(ROOT / "docs"), help="document output folder")
@@ -86,13 +113,17 @@ def main(argv: list[str] | None = None) -> int:
         "--force", action="store_true", help="overwrite files this tool did not write"
     )
     args = parser.parse_args(argv)
+    names = _parse_cases(args.cases)
+    _require_derive_extra()
     start = time.perf_counter()
-    files = _planned_files(args, _parse_cases(args.cases))
+    files = _planned_files(args, names)
     if args.check:
         return _check(files)
     _write(files, args.force)
     print(f"derived and generated in {time.perf_counter() - start:.1f} s")
-    if not args.no_pdf:
+    if not _whole(names):
+        print("derivations.tex left as it is: it covers every case (run without --cases)")
+    elif not args.no_pdf:
         from derive.document import build_pdf
 
         pdf = build_pdf(Path(args.docs_dir) / "derivations.tex")

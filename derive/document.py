@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -40,6 +41,30 @@ for _i in ("1", "2"):
     _NAMES[f"vy{_i}"] = f"v_{{y{_i}}}"
 
 
+_TEXT_ESCAPES = {
+    "\\": r"\textbackslash{}",
+    "_": r"\_",
+    "&": r"\&",
+    "%": r"\%",
+    "#": r"\#",
+    "$": r"\$",
+    "{": r"\{",
+    "}": r"\}",
+    ">": "$>$",
+    "<": "$<$",
+    "|": "$|$",
+}
+
+
+def tex_text(text: str) -> str:
+    """Plain text (a proof statement, a feature) as LaTeX text: specials escaped, and >, <, |
+    in math mode (the default OT1 text font prints them as an inverted question mark and
+    dashes); t^2, M^-1 as superscripts; d'' as two primes, not a closing double quote."""
+    out = "".join(_TEXT_ESCAPES.get(ch, ch) for ch in text)
+    out = re.sub(r"\^(-?\d+|\w)", r"$^{\1}$", out)
+    return out.replace("''", "'{}'")
+
+
 def latex(expr: sp.Expr, terms_per_line: int = 4) -> str:
     """LaTeX of `expr`; a long sum is broken over aligned lines so it fits the page."""
     names = {s: _NAMES.get(str(s), sp.latex(s)) for s in expr.free_symbols}
@@ -69,11 +94,10 @@ def _case_context(result: CaseResult) -> dict:
 
 def render(results: dict[str, CaseResult]) -> str:
     osc = [osculating_check(), osculating_check(a=3.0, b=0.5, phi=2.0)]
-    return (
-        environment()
-        .get_template("derivations.tex.j2")
-        .render(cases=[_case_context(r) for r in results.values()], osculating=osc)
-    )
+    env = environment()
+    env.filters["tex_text"] = tex_text
+    template = env.get_template("derivations.tex.j2")
+    return template.render(cases=[_case_context(r) for r in results.values()], osculating=osc)
 
 
 def build_pdf(tex_path: Path) -> Path | None:

@@ -5,15 +5,12 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 
 from derive.cases import ALL_CASES
 from derive.derivation import Derivatives, derive
 from derive.emit import batch_call, emit_function, environment, format_python, geometry_columns
 from derive.kernels import kernel_specs
 from derive.proofs import Proof, proofs_for
-
-ROOT = Path(__file__).resolve().parent.parent
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,108 @@
+"""The curated mutants of `make mutate` (bench/mutate.py): realistic bugs, one line each.
+
+A mutant replaces one exact text in one file (`within`: the first occurrence after that anchor,
+for lines that repeat) and names the tests that should catch it, run in that order. Tests that
+only compare files (the stale check) are never named: a mutant must be caught by physics.
+`regenerate=True` runs `python -m derive --no-pdf` first (a derive/ bug that reaches the kernels).
+
+To add one, e.g. for the contact-force solver:
+
+    Mutant("lcp:fast-path-sign", "runtime/solve/lcp.py", "-b / a", "b / a", LCP, "one contact: pulls"),
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Mutant:
+    name: str
+    path: str
+    old: str
+    new: str
+    tests: str  # pytest targets, space-separated, run in this order with -x
+    what: str  # the bug it models
+    within: str = ""
+    regenerate: bool = False
+
+
+PROOFS = "tests/derive/test_proofs.py"
+ORACLE = "tests/generated/test_bias_terms.py tests/generated/test_kernels_vs_oracle.py"
+ARCS_FIRST = "tests/runtime/test_arcs.py " + ORACLE  # the engine scenes must catch it too
+COMPILED = "tests/generated/test_compiled_kernels.py"
+SHAPES = "tests/runtime/test_shapes.py tests/runtime/test_arcs.py"
+STEPPING = "tests/runtime/test_arcs.py tests/runtime/test_physics.py"
+DERIVATION = "derive/derivation.py"
+CC = "generated/circle_circle.py"
+VC = "generated/vertex_circle.py"
+CE = "generated/circle_edge.py"
+VE = "generated/vertex_edge.py"
+SHAPE = "runtime/model/shapes.py"
+STEP = "runtime/step/integrators.py"
+
+# fmt: off
+MUTANTS: list[Mutant] = [
+    # derive/: the proofs must fail (issue #18: a wrong bias term used to pass them)
+    Mutant("derive:centripetal-sign", DERIVATION, "/ V_LEN + V_TAN**2 / V_LEN)", "/ V_LEN - V_TAN**2 / V_LEN)", PROOFS, "circular edge: the centripetal v_tan^2/|v| term of d'' with the wrong sign"),
+    Mutant("derive:centripetal-dropped", DERIVATION, "/ V_LEN + V_TAN**2 / V_LEN)", "/ V_LEN)", PROOFS, "circular edge: d'' without its centripetal term"),
+    Mutant("derive:v_tan-cross", DERIVATION, "(V_TAN, (sx * sy_t - sy * sx_t) / V_LEN)", "(V_TAN, (sx * sy_t + sy * sx_t) / V_LEN)", PROOFS, "circular edge: v x v' written with a + (tangential speed wrong)", within="def _circle_case"),
+    Mutant("derive:bias-keeps-body2-acceleration", DERIVATION, "{a: 0 for a in ACCELERATION})", "{a: 0 for a in ACCELERATION[:3]})", PROOFS, "the bias keeps body 2's acceleration terms"),
+    Mutant("derive:static2-keeps-body2-velocity", DERIVATION, "{m: 0 for m in BODY2_MOTION})", "{m: 0 for m in BODY2_MOTION[3:]})", PROOFS, "body 2 fixed: only its accelerations zeroed, its velocity kept"),
+    Mutant("derive:jacobian-no-chain-rule", DERIVATION, "total = sp.diff(expr, symbol) + sum(", "total = sp.diff(expr, symbol) + 0 * sum(", PROOFS, "J: the chain rule through the intermediates dropped"),
+    Mutant("derive:line-offset-sign", DERIVATION, "d = nx * vx + ny * vy - case.offset", "d = nx * vx + ny * vy + case.offset", PROOFS, "straight edge: the circle's radius added to the gap"),
+    Mutant("derive:dy-sign", DERIVATION, "(DY, y1 - y2)]", "(DY, y2 - y1)]", PROOFS, "the relative position's y taken the wrong way round"),
+    Mutant("derive:rotation-transposed", "derive/kinematics.py", "sp.Matrix([c * vx - s * vy, s * vx + c * vy])", "sp.Matrix([c * vx + s * vy, -s * vx + c * vy])", PROOFS, "body points turned by R(-th): consistent, but not the bodies' motion"),
+    Mutant("derive:circle-offset", "derive/cases.py", "offset=R1 + R2,", "offset=R1 - R2,", PROOFS, "circle on circle: r2 subtracted with the wrong sign"),
+    Mutant("derive:centre-swapped", "derive/cases.py", "BODY2.point(CX2, CY2)", "BODY2.point(CY2, CX2)", PROOFS, "vertex on circle: the centre's coordinates swapped", within="def vertex_circle"),
+    Mutant("derive:normal-on-body1", "derive/cases.py", "normal=BODY2.rotate(NX2, NY2),", "normal=BODY1.rotate(NX2, NY2),", PROOFS, "circle on edge: the edge's normal turned with body 1", within="def circle_edge"),
+    Mutant("derive:jacobian-spec-bodies-swapped", "derive/kernels.py", "d.jacobian,\n            jac_names,", "d.jacobian[3:] + d.jacobian[:3],\n            jac_names,", ORACLE, "the emitted Jacobian row lists body 2 before body 1: a slip after the proofs", regenerate=True),
+    # generated/: bias and Jacobian terms of every case, full and body 2 fixed
+    Mutant("vertex_edge:bias-factor-2", VE, "+ 2 * n_x_t * v_x_t", "+ n_x_t * v_x_t", ORACLE, "eq. 4's factor 2 on n'.v' lost (x part)", within="def bias("),
+    Mutant("vertex_edge:bias_static2-w1^2", VE, "v_x_tt = e2 * (-e3 * px1 + e4 * py1)", "v_x_tt = e2 * (-e3 * px1 - e4 * py1)", ORACLE, "body 2 fixed: the vertex's centripetal acceleration"),
+    Mutant("vertex_edge:jacobian-j1th", VE, "-e11 * n_x + e8 * n_y,", "-e11 * n_x - e8 * n_y,", ORACLE, "body 1's lever R1 x n", within="def jacobian("),
+    Mutant("vertex_edge:jacobian-j2th", VE, "- n_y * (-e4 + e5),", "+ n_y * (-e4 + e5),", ORACLE, "body 2's lever R2 x n", within="def jacobian("),
+    Mutant("circle_edge:bias-n''", CE, "+ n_x_tt * v_x", "- n_x_tt * v_x", ORACLE, "eq. 11's -w2^2 r1 term (n''.v) with the wrong sign", within="def bias("),
+    Mutant("circle_edge:bias-w1^2", CE, "e16 = w1 * w1", "e16 = -w1 * w1", ORACLE, "the off-centre circle's centripetal acceleration", within="def bias("),
+    Mutant("circle_edge:jacobian_static2-j1th", CE, "return n_x, n_y, -n_x *", "return n_x, n_y, n_x *", ORACLE, "body 2 fixed: body 1's lever U1 x n", within="def jacobian_static2("),
+    Mutant("vertex_circle:bias-centripetal", VC, "return sg2 * (e12 * v_tan * v_tan + e12", "return sg2 * (-e12 * v_tan * v_tan + e12", ORACLE, "eq. 8's curvature term sigma v_tan^2/|v| with the wrong sign", within="def bias("),
+    Mutant("vertex_circle:bias-w2^2", VC, "e14 = w2 * w2", "e14 = -w2 * w2", ORACLE, "the moving circle's centripetal acceleration", within="def bias("),
+    Mutant("vertex_circle:jacobian-j2th", VC, "e10 * (v_x * (e7 + e8) - v_y * (-e1 + e3)),", "e10 * (v_x * (e7 - e8) - v_y * (-e1 + e3)),", ORACLE, "body 2's lever U2 x n", within="def jacobian("),
+    Mutant("circle_circle:bias-w1^2", CC, "e13 = w1 * w1", "e13 = -w1 * w1", ARCS_FIRST, "issue #18: the w1^2 term (zero for a disc) with the wrong sign", within="def bias("),
+    Mutant("circle_circle:bias_static2-w1^2", CC, "e8 = w1 * w1", "e8 = -w1 * w1", ARCS_FIRST, "body 2 fixed (a bowl): the off-centre arc's w1^2 term", within="def bias_static2("),
+    Mutant("circle_circle:bias-v_tan", CC, "v_tan = e12 * (v_x * v_y_t - v_x_t * v_y)", "v_tan = e12 * (v_x * v_y_t + v_x_t * v_y)", ARCS_FIRST, "the tangential relative speed", within="def bias("),
+    Mutant("circle_circle:jacobian-j1th", CC, "e10 * (e6 * v_y - e9 * v_x),", "e10 * (e6 * v_y + e9 * v_x),", ARCS_FIRST, "body 1's lever U1 x n", within="def jacobian("),
+    Mutant("compiled:circle_circle-bias-w1^2", "generated/compiled/circle_circle.py", "e13 = w1 * w1", "e13 = -w1 * w1", COMPILED, "the compiled variant's w1^2 term", within="def bias("),
+    # runtime/model/shapes.py: mass properties (area, centroid, second moment)
+    Mutant("shapes:arc-area", SHAPE, "+ h * R * s1 + k * R * c1)", "+ h * R * s1 - k * R * c1)", SHAPES, "an arc's area term (Green's theorem)"),
+    Mutant("shapes:arc-first-moment", SHAPE, "(h * h * s1 + 2 * h * R * c2 + R * R * c3)", "(h * h * s1 + h * R * c2 + R * R * c3)", SHAPES, "an arc's first moment: the centroid of a half disc"),
+    Mutant("shapes:arc-second-moment", SHAPE, "h**3 * s1 + 3 * h * h * R * c2", "h**3 * s1 + 2 * h * h * R * c2", SHAPES, "an arc's second moment"),
+    Mutant("shapes:segment-second-moment", SHAPE, "* (y0 * y0 + y1 * y1)) / 12", "* (y0 * y0 + y1 * y1)) / 6", SHAPES, "a segment's second moment"),
+    Mutant("shapes:segment-first-moment", SHAPE, "my = -dx * (y0 * y0 + y0 * y1 + y1 * y1) / 6", "my = -dx * (y0 * y0 + y0 * y1 + y1 * y1) / 3", SHAPES, "a segment's first moment"),
+    Mutant("shapes:parallel-axis", SHAPE, "- area * (mx * mx + my * my)", "+ area * (mx * mx + my * my)", SHAPES, "the parallel-axis theorem the wrong way"),
+    Mutant("shapes:ellipse-moment", SHAPE, "(edge.a**2 + edge.b**2) / 4", "(edge.a**2 + edge.b**2) / 2", SHAPES, "an ellipse's second moment"),
+    Mutant("shapes:centroid-y", SHAPE, "cx, cy = ox + mx, oy + my", "cx, cy = ox + mx, oy - my", SHAPES, "the centroid's y from the wrong side"),
+    Mutant("scene:inertia-no-area", "runtime/model/scene.py", "float(self.shape.second_moment) / float(self.shape.area)", "float(self.shape.second_moment)", SHAPES, "inertia = m J (J per unit density, not per unit mass)"),
+    # runtime/step/integrators.py
+    Mutant("integrators:rk4-k3", STEP, "k3 = rhs(y + 0.5 * dt * k2)", "k3 = rhs(y + 0.5 * dt * k1)", STEPPING, "RK4's third stage from k1 (still consistent, lower order)"),
+    Mutant("integrators:rk4-k4", STEP, "k4 = rhs(y + dt * k3)", "k4 = rhs(y + dt * k2)", STEPPING, "RK4's last stage from k2"),
+    Mutant("integrators:rk4-weights", STEP, "(k1 + 2.0 * k2 + 2.0 * k3 + k4)", "(k1 + 3.0 * k2 + k3 + k4)", STEPPING, "RK4's weights (sum still 6)"),
+    Mutant("integrators:midpoint-full-step", STEP, "return y + dt * rhs(y + 0.5 * dt * k1)", "return y + dt * rhs(y + dt * k1)", STEPPING, "midpoint evaluated at the end of the step"),
+    Mutant("integrators:euler-half", STEP, "return y + dt * (rhs(y) if k1 is None else k1)", "return y + 0.5 * dt * (rhs(y) if k1 is None else k1)", STEPPING, "Euler with half the step"),
+]
+# fmt: on
+
+# Why a mutant survives, when it is expected to (printed with it and in bench/README.md).
+SURVIVOR_NOTES: dict[str, str] = {}
+
+# What the list leaves out on purpose, and what earlier runs found (printed in bench/README.md).
+NOTES = (
+    "The first run (2026-12-01) killed 38 of 42: Euler with half the step and the midpoint rule"
+    " evaluated at the end of the step survived (no test checked the accuracy of Euler or"
+    " midpoint; now tests/runtime/test_arcs.py checks each method's order of convergence), a"
+    " mutant dropping the inner chain rule of `Derivatives.total_derivative` was equivalent (no"
+    " intermediate depends on an acceleration through another one, so the Jacobian is the same;"
+    " replaced by dropping the outer chain rule), and a kernel-spec mutant made"
+    " `regenerate-equations` crash (replaced by one that regenerates). Left out on purpose:"
+    " equivalent mutants, and mutants that crash regenerate-equations, which any run shows."
+)

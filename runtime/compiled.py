@@ -68,6 +68,9 @@ def njit(*args, **kwargs):
     return numba.njit(*args, **kwargs)
 
 
+CHECK_CALLS = bool(os.environ.get("CURVED_EDGE_CHECK_CALLS"))  # tests turn it on (conftest)
+
+
 class Bound:
     """A compiled function called again and again with arguments of the same kinds.
 
@@ -75,8 +78,10 @@ class Bound:
     that is itself a compiled function (how the engine passes the kernels of a scene's contact
     cases, so only those are imported) that costs ~4 us each, more than a small island's whole
     stage. The first call goes through the dispatcher (compiling, or loading the cache); later
-    calls whose arrays have the same dtype, dimensions and C layout, and whose scalars the same
-    type, go straight to the compiled entry point. Any other call takes the dispatcher again."""
+    calls go straight to the compiled entry point, which does not check types: the caller
+    (runtime.step.stepper) builds every array with its dtype and layout, and with
+    ``CURVED_EDGE_CHECK_CALLS`` set (the test suite does) every call is checked against the
+    first, and a call with other kinds of arguments is a TypeError (a bug of the caller)."""
 
     def __init__(self, dispatcher) -> None:
         self.dispatcher = dispatcher
@@ -86,13 +91,17 @@ class Bound:
     @staticmethod
     def _kinds(args: tuple) -> tuple:
         return tuple(
-            (a.dtype, a.ndim, a.flags.c_contiguous) if hasattr(a, "flags") else type(a)
+            (a.dtype.num, a.ndim, a.flags.c_contiguous) if hasattr(a, "flags") else type(a)
             for a in args
         )
 
     def __call__(self, *args):
-        kinds = self._kinds(args)
-        if self.entry is not None and kinds == self.kinds:
+        if self.entry is not None:
+            if CHECK_CALLS and self._kinds(args) != self.kinds:
+                raise TypeError(
+                    f"{self.dispatcher.__name__} called with arguments of other kinds than at "
+                    f"its first call: {self._kinds(args)} != {self.kinds}"
+                )
             return self.entry(*args)
         with warnings.catch_warnings():
             # compiled stages take the kernels of a scene's cases as function arguments
@@ -102,7 +111,7 @@ class Bound:
         types = tuple(self.dispatcher.typeof_pyval(a) for a in args)
         overload = self.dispatcher.overloads.get(types)
         if overload is not None:
-            self.entry, self.kinds = overload.entry_point, kinds
+            self.entry, self.kinds = overload.entry_point, self._kinds(args)
         return result
 
 

@@ -5,8 +5,13 @@ the repository root (for ``derive``, ``generated``, ``runtime``) and ``tests/`` 
 helpers ``oracle`` and ``strategies``) go on sys.path.
 """
 
+import os
 import sys
 from pathlib import Path
+
+# every call of a compiled stage is checked against the kinds of its first arguments
+# (runtime.compiled.Bound), here and in the subprocesses tests start
+os.environ["CURVED_EDGE_CHECK_CALLS"] = "1"
 
 _TESTS = Path(__file__).resolve().parent
 for _path in (_TESTS.parent, _TESTS):

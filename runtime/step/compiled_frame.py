@@ -142,18 +142,27 @@ def _impacts(jac, body1, body2, inv_mass, fixed, modes, rate, restitution, recen
 
 @njit
 def _forces(jac, body1, body2, bias, inv_mass, fixed, free_acc, modes, guess, tol, limit,
-            forces, rates, acc):  # fmt: skip
+            forces, rates, acc, grouping):  # fmt: skip
     """Resting forces per island with the guess; False if an island is too large or has no
-    solution. ``forces``/``rates`` per contact (0 where not resting), ``acc`` per body."""
+    solution. ``forces``/``rates`` per contact (0 where not resting), ``acc`` per body;
+    ``grouping`` = (order, offsets, labels, counts): the resting contacts in island order,
+    where each island starts, each one's island, and (contacts, islands + 1)."""
     n = acc.shape[0]
     acc[:, :] = free_acc
     forces[:] = 0.0
     rates[:] = 0.0
+    order, offsets_out, labels_out, counts = grouping
     rest = np.flatnonzero(modes == RESTING)
+    counts[0], counts[1] = 0, 1
+    offsets_out[0] = 0
     if rest.size == 0:
         return True
     labels = _contact_labels(n, body1, body2, fixed, rest)
     members, offsets = _groups(labels, rest)
+    counts[0], counts[1] = members.size, offsets.size
+    order[: members.size] = members
+    offsets_out[: offsets.size] = offsets
+    labels_out[: members.size] = labels[members]
     sub_jac = np.ascontiguousarray(jac[members])
     sub_b1, sub_b2 = body1[members], body2[members]
     sub_f, sub_b = np.zeros(members.size), np.zeros(members.size)
@@ -169,7 +178,7 @@ def _forces(jac, body1, body2, bias, inv_mass, fixed, free_acc, modes, guess, to
     for q in range(members.size):
         k = members[q]
         forces[k], rates[k] = sub_f[q], sub_b[q]
-        guess[k] = sub_f[q] > 0.0
+        guess[k] = sub_guess[q]
     return True
 
 
@@ -212,13 +221,14 @@ def _press(jac, body1, body2, inv_mass, fixed, modes, pressed, rate, limit, v, i
 def settle_frame(
     a0, a1, a2, a3, q, case, body1, body2, geometry, static2, held, recent, restitution, mass,
     inv_mass, fixed, free_acc, limits, tol, limit, rounds,
-    v, gap, rate, jac, bias, modes, impulses, guess, forces, rates, acc,
+    v, gap, rate, jac, bias, modes, impulses, guess, forces, rates, acc, grouping,
 ):  # fmt: skip
     """The frame at (q, v) (the kernels a0..a3: batch_all of each case, runtime.solve.
     kernel_set.frame_kernels): rows, classify, the impacts, classify again, then the press/lift
     rounds with the resting forces (the policy of runtime.step.classify and runtime.step.
     resting). ``v`` becomes the velocities after the impulses; the other arrays after it are
-    written. Returns (ok, the kinetic energy the impacts and presses took out)."""
+    written, and ``grouping`` (see _forces) describes the resting contacts' islands. Returns
+    (ok, the kinetic energy the impacts and presses took out)."""
     touch, hold, resting_speed, separation, creep = limits
     scratch_gap, scratch_rate = np.empty(gap.size), np.empty(gap.size)
     all_by_case(a0, a1, a2, a3, q, v, case, body1, body2, geometry, static2, gap, rate, jac, bias)
@@ -255,7 +265,7 @@ def settle_frame(
             bias,
         )  # fmt: skip  (the bias at the new velocities)
     if not _forces(jac, body1, body2, bias, inv_mass, fixed, free_acc, modes, guess, tol, limit,
-                   forces, rates, acc):  # fmt: skip
+                   forces, rates, acc, grouping):  # fmt: skip
         return False, 0.0
     pressed = np.zeros(gap.size, np.bool_)  # pressed once: they stay pressed
     for _ in range(rounds):
@@ -294,6 +304,6 @@ def settle_frame(
             all_by_case(a0, a1, a2, a3, q, v, case, body1, body2, geometry, static2,
                         scratch_gap, scratch_rate, jac, bias)  # fmt: skip
         if not _forces(jac, body1, body2, bias, inv_mass, fixed, free_acc, modes, guess, tol,
-                       limit, forces, rates, acc):  # fmt: skip
+                       limit, forces, rates, acc, grouping):  # fmt: skip
             return False, 0.0
     return True, before - _kinetic(mass, fixed, v)

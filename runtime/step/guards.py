@@ -25,6 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from runtime import settings
+from runtime.collide.broadphase import sweep
+from runtime.compiled import njit
 from runtime.model.shapes import TAU, Arc, Segment
 
 
@@ -74,30 +76,44 @@ def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, int] | None
     return float(depth[k]), float(depth[k] / size[k]), k
 
 
+@njit
+def _passed_through(start, end, inner, hollow):
+    """First pair (i, j) of bodies that are not ``hollow`` (fixed, or open chains) whose
+    centres of mass came closer than the larger inner radius during the step, or (-1, -1)."""
+    mid_x = 0.5 * (start[:, 0] + end[:, 0])
+    mid_y = 0.5 * (start[:, 1] + end[:, 1])
+    reach = np.empty(inner.size)
+    for b in range(inner.size):
+        dx, dy = end[b, 0] - start[b, 0], end[b, 1] - start[b, 1]
+        reach[b] = 0.5 * np.sqrt(dx * dx + dy * dy) + inner[b]
+    pairs = sweep(mid_x, mid_y, reach, hollow)
+    for p in range(pairs.shape[0]):
+        i, j = pairs[p, 0], pairs[p, 1]
+        if hollow[i] or hollow[j]:
+            continue
+        px, py = start[i, 0] - start[j, 0], start[i, 1] - start[j, 1]
+        dx = (end[i, 0] - end[j, 0]) - px
+        dy = (end[i, 1] - end[j, 1]) - py
+        dd = dx * dx + dy * dy
+        s = 0.0 if dd == 0.0 else min(max(-(px * dx + py * dy) / dd, 0.0), 1.0)
+        cx, cy = px + s * dx, py + s * dy
+        limit = max(inner[i], inner[j])
+        if cx * cx + cy * cy < limit * limit:
+            return i, j
+    return -1, -1
+
+
 def passed_through(
-    start: np.ndarray, end: np.ndarray, inner: np.ndarray, pairs: tuple[np.ndarray, np.ndarray]
-) -> int | None:
-    """Index into ``pairs`` of the first pair of bodies whose centres of mass came closer than
-    the larger of their inner radii during the step (straight paths between the step's poses
-    ``start`` and ``end``), or None. ``inner``: each body's distance from its centre of mass to
-    its boundary (a disc's radius): one centre that far inside the other body means they
-    overlap by at least the smaller body's inner radius: they passed through each other."""
-    i, j = pairs
-    if i.size == 0:
-        return None
-    p0 = start[i, :2] - start[j, :2]
-    d = (end[i, :2] - end[j, :2]) - p0
-    dd = np.einsum("ij,ij->i", d, d)
-    with np.errstate(all="ignore"):
-        s = np.clip(np.where(dd > 0, -np.einsum("ij,ij->i", p0, d) / dd, 0.0), 0.0, 1.0)
-    closest = p0 + s[:, None] * d
-    near = np.einsum("ij,ij->i", closest, closest) < np.maximum(inner[i], inner[j]) ** 2
-    hits = np.flatnonzero(near)
-    return int(hits[0]) if hits.size else None
-
-
-def _cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+    start: np.ndarray, end: np.ndarray, inner: np.ndarray, hollow: np.ndarray
+) -> tuple[int, int] | None:
+    """The first pair of bodies (not ``hollow``: fixed bodies, open chains) whose centres of
+    mass came closer than the larger of their inner radii during the step (straight paths
+    between the step's poses ``start`` and ``end``), or None. ``inner``: each body's distance
+    from its centre of mass to its boundary (a disc's radius): one centre that far inside the
+    other body means they overlap by at least the smaller body's inner radius: they passed
+    through each other."""
+    i, j = _passed_through(start, end, inner, hollow)
+    return None if i < 0 else (int(i), int(j))
 
 
 class FixedEdges:
@@ -109,7 +125,7 @@ class FixedEdges:
 
     def __init__(self, scene):
         poses = scene.poses()
-        starts, ends, self.segment_owner, self.arcs = [], [], [], []
+        segments, arcs = [], []
         for j, (body, shape) in enumerate(zip(scene.bodies, scene.shapes, strict=True)):
             if not body.fixed:
                 continue
@@ -121,45 +137,55 @@ class FixedEdges:
 
             for edge in shape.edges:
                 if isinstance(edge, Segment):
-                    starts.append(world(edge.start))
-                    ends.append(world(edge.end))
-                    self.segment_owner.append(j)
+                    segments.append((*world(edge.start), *world(edge.end), j))
                 elif isinstance(edge, Arc):
-                    self.arcs.append((j, np.array(world(edge.centre)), abs(edge.radius), edge, th))
-        self.starts = np.array(starts, dtype=float).reshape(-1, 2)
-        self.ends = np.array(ends, dtype=float).reshape(-1, 2)
+                    arcs.append((*world(edge.centre), abs(edge.radius), edge.start_angle + th,
+                                 edge.span, j))  # fmt: skip
+        self.segments = np.array(segments, dtype=float).reshape(-1, 5)
+        self.arcs = np.array(arcs, dtype=float).reshape(-1, 6)
 
     def crossing(self, p0: np.ndarray, p1: np.ndarray) -> tuple[int, int] | None:
         """(row of p0, fixed body) of the first path p0[i] -> p1[i] ((n, 2) arrays) that crosses
         a fixed edge, or None."""
-        d = p1 - p0
-        moved = np.any(d != 0.0, axis=1)
-        with np.errstate(all="ignore"):
-            if len(self.starts):
-                e = self.ends - self.starts
-                w = self.starts[None, :, :] - p0[:, None, :]
-                denom = _cross(d[:, None, :], e[None, :, :])
-                t = _cross(w, e[None, :, :]) / denom
-                u = _cross(w, d[:, None, :]) / denom
-                hit = (denom != 0) & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
-                hit &= moved[:, None]
-                if hit.any():
-                    i, k = (int(v[0]) for v in np.nonzero(hit))
-                    return i, self.segment_owner[k]
-            for owner, centre, radius, arc, turn in self.arcs:
-                f = p0 - centre
-                a, b = np.sum(d * d, axis=1), 2.0 * np.sum(d * f, axis=1)
-                disc = b * b - 4.0 * a * (np.sum(f * f, axis=1) - radius * radius)
-                root = np.sqrt(np.maximum(disc, 0.0))
-                for sign in (-1.0, 1.0):
-                    t = (-b + sign * root) / (2.0 * a)
-                    point = f + t[:, None] * d
-                    angle = np.arctan2(point[:, 1], point[:, 0]) - turn
-                    inside = (angle - arc.start_angle) % TAU <= arc.span
-                    hit = moved & (disc >= 0) & (t >= 0) & (t <= 1) & inside
-                    if hit.any():
-                        return int(np.flatnonzero(hit)[0]), owner
-        return None
+        row, owner = _crossing(
+            np.ascontiguousarray(p0), np.ascontiguousarray(p1), self.segments, self.arcs
+        )
+        return None if row < 0 else (int(row), int(owner))
+
+
+@njit
+def _crossing(p0, p1, segments, arcs):
+    for i in range(p0.shape[0]):
+        dx, dy = p1[i, 0] - p0[i, 0], p1[i, 1] - p0[i, 1]
+        if dx == 0.0 and dy == 0.0:
+            continue
+        for k in range(segments.shape[0]):
+            sx, sy, ex, ey, owner = segments[k]
+            ux, uy = ex - sx, ey - sy
+            wx, wy = sx - p0[i, 0], sy - p0[i, 1]
+            denom = dx * uy - dy * ux
+            if denom == 0.0:
+                continue
+            t = (wx * uy - wy * ux) / denom
+            u = (wx * dy - wy * dx) / denom
+            if 0.0 <= t <= 1.0 and 0.0 <= u <= 1.0:
+                return i, int(owner)
+        for k in range(arcs.shape[0]):
+            cx, cy, radius, start, span, owner = arcs[k]
+            fx, fy = p0[i, 0] - cx, p0[i, 1] - cy
+            a = dx * dx + dy * dy
+            b = 2.0 * (dx * fx + dy * fy)
+            disc = b * b - 4.0 * a * (fx * fx + fy * fy - radius * radius)
+            if disc < 0.0:
+                continue
+            root = np.sqrt(disc)
+            for sign in (-1.0, 1.0):
+                t = (-b + sign * root) / (2.0 * a)
+                if 0.0 <= t <= 1.0:
+                    angle = np.arctan2(fy + t * dy, fx + t * dx)
+                    if (angle - start) % TAU <= span:
+                        return i, int(owner)
+    return -1, -1
 
 
 def inner_radius(shape) -> float:

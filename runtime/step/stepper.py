@@ -37,7 +37,7 @@ from runtime.collide import sweep
 from runtime.collide.features import features
 from runtime.compiled import Bound
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution, Stabilisation
-from runtime.solve.islands import body_islands, contact_islands, grouped
+from runtime.solve.islands import body_islands, contact_islands
 from runtime.solve.kernel_set import frame_kernels, row_kernels
 from runtime.solve.rows import RowEvaluator, Rows
 from runtime.step import compiled_frame, compiled_stages
@@ -163,6 +163,12 @@ class Stepper:
         modes = np.empty(m, np.int64)
         impulses, forces, rates = np.zeros(m), np.zeros(m), np.zeros(m)
         velocities, acc = v.copy(), np.empty_like(v)
+        order, offsets, labels = (
+            np.empty(m, np.int64),
+            np.empty(m + 1, np.int64),
+            np.empty(m, np.int64),
+        )
+        counts = np.zeros(2, np.int64)
         b = self.bodies
         ok, loss = self._frame_call(
             *self.frame_kernels, q, contacts.case, contacts.body1, contacts.body2,
@@ -172,24 +178,20 @@ class Stepper:
              limits.creep_speed),
             settings.LCP_TOL, settings.DENSE_ISLAND, settings.SETTLE_ROUNDS,
             velocities, gap, rate, jac, bias, modes, impulses, guess, forces, rates, acc,
+            (order, offsets, labels, counts),
         )  # fmt: skip
         if not ok:
             return None
         rows = Rows(gap, rate, jac, bias, contacts.body1, contacts.body2)
         frame = Frame(contacts, keys, rows, modes, velocities, margin, impulses, loss)
-        rest = frame.resting
-        resting = contacts.take(rest)
-        labels = contact_islands(
-            body_islands(self.n, resting.body1, resting.body2, self.fixed),
-            resting.body1, resting.body2, self.fixed,
-        )  # fmt: skip
-        order, offsets = grouped(labels)
-        rest_keys = [keys[k] for k in rest]
+        rest = frame.resting  # ascending; the problem's rows are the same contacts by island
+        count, islands = int(counts[0]), int(counts[1])
+        order = order[:count]
         problem = ForceProblem(
-            resting.take(order), order, offsets, guess[rest][order], labels[order],
-            [rest_keys[k] for k in order],
+            contacts.take(order), np.searchsorted(rest, order), offsets[:islands].copy(),
+            guess[order], labels[:count].copy(), [keys[k] for k in order],
         )  # fmt: skip
-        self.forces.memory.update(zip(rest_keys, guess[rest].tolist(), strict=True))
+        self.forces.memory.update(zip(problem.keys, problem.guess.tolist(), strict=True))
         return frame, RestingSolution(problem, acc, forces[rest], rates[rest])
 
     def _hold(self, frame: Frame, active) -> None:

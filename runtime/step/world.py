@@ -22,7 +22,6 @@ import numpy as np
 
 from runtime import settings
 from runtime.collide.contact_set import Contacts
-from runtime.collide.contacts import candidate_pairs
 from runtime.solve.forces import Stabilisation
 from runtime.solve.lcp import ContactSolverError
 from runtime.step.guards import (
@@ -123,6 +122,7 @@ class World:
         self._edges = FixedEdges(scene) if self.guards.penetration is not None else None
         self._moving = np.flatnonzero(~np.asarray(scene.fixed, dtype=bool))
         self._inner = np.array([inner_radius(s) for s in scene.shapes])
+        self._hollow = np.asarray(scene.fixed, dtype=bool) | (self._inner == 0)
 
     # -- state -----------------------------------------------------------------------------
 
@@ -276,23 +276,13 @@ class World:
                 f"moved the centre of mass of {body.name} through {wall.name} (it tunnelled): "
                 f"{_TOO_LARGE}"
             )
-        pairs = self._moving_pairs(new_q)
-        hit = passed_through(self.poses, new_q, self._inner, pairs)
+        hit = passed_through(self.poses, new_q, self._inner, self._hollow)
         if hit is not None:
-            i, j = bodies[pairs[0][hit]], bodies[pairs[1][hit]]
+            i, j = bodies[hit[0]], bodies[hit[1]]
             raise self.failure(
                 f"moved {i.name} and {j.name} through each other (a centre of mass came inside "
                 f"the other body's inscribed circle): {_TOO_LARGE}"
             )
-
-    def _moving_pairs(self, new_q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Pairs of moving bodies whose paths over the step came within reach of each other."""
-        mid = 0.5 * (self.poses[:, :2] + new_q[:, :2])
-        half = 0.5 * np.hypot(*(new_q[:, :2] - self.poses[:, :2]).T)
-        hollow = np.asarray(self.scene.fixed, dtype=bool) | (self._inner == 0)
-        i, j = candidate_pairs(mid, half + self._inner, hollow, 0.0)
-        keep = (self._inner[i] > 0) & (self._inner[j] > 0)
-        return i[keep], j[keep]
 
     def _check_energy(self, energy: float) -> None:
         if (

@@ -94,7 +94,7 @@ LCP_SPARSE_DENSITY = 0.1  # fraction of non-zeros above which a large island is 
 
 COMPILED = True  # use the compiled frame and integrator stages where they apply (small islands,
 # fixed-step methods); False runs every stage the general way (the same results to rounding)
-DENSE_ISLAND = 48  # contacts: islands up to this size are assembled and solved dense in one
+DENSE_ISLAND = 128  # contacts: islands up to this size are assembled and solved dense in one
 # compiled call (an A_CC Cholesky of 48 rows costs ~20 us); larger ones go sparse
 
 # -- contacts: touching, resting, impacts ------------------------------------------------------

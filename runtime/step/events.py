@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from runtime import settings
+from runtime.compiled import njit
 from runtime.step.classify import LIFTING, SEPARATING
 
 CROSS = "cross"  # open at the start, penetrating at the end
@@ -68,14 +69,67 @@ def hermite(g0: float, v0: float, g1: float, v1: float, h: float) -> np.ndarray:
     return np.array([g0, h * v0, c2, c3])
 
 
+@njit
+def _poly(c0, c1, c2, c3, s):
+    return c0 + s * (c1 + s * (c2 + s * c3))
+
+
+@njit
+def _cubic_roots(c0, c1, c2, c3, lo, hi):
+    """Real roots in [lo, hi] of c0 + c1 s + c2 s^2 + c3 s^3, sorted: the interval cut at the
+    stationary points (the quadratic's roots), and bisection in every piece whose ends differ
+    in sign (to the float resolution of s); a root exactly at a cut counts once."""
+    cuts = [lo]
+    a, b, c = 3.0 * c3, 2.0 * c2, c1  # the derivative a s^2 + b s + c
+    if a != 0.0:
+        disc = b * b - 4.0 * a * c
+        if disc >= 0.0:
+            q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
+            for r in (q / a, c / q if q != 0.0 else q / a):
+                if lo < r < hi:
+                    cuts.append(r)
+    elif b != 0.0 and lo < -c / b < hi:
+        cuts.append(-c / b)
+    cuts.append(hi)
+    cuts.sort()
+    roots = []
+    for k in range(len(cuts) - 1):
+        x0, x1 = cuts[k], cuts[k + 1]
+        f0, f1 = _poly(c0, c1, c2, c3, x0), _poly(c0, c1, c2, c3, x1)
+        if f0 == 0.0:
+            if not roots or roots[-1] != x0:
+                roots.append(x0)
+            continue
+        if k == len(cuts) - 2 and f1 == 0.0:
+            roots.append(x1)
+            continue
+        if (f0 < 0.0) == (f1 < 0.0):
+            continue
+        for _ in range(200):
+            mid = 0.5 * (x0 + x1)
+            if mid <= x0 or mid >= x1:
+                break
+            fm = _poly(c0, c1, c2, c3, mid)
+            if fm == 0.0:
+                x0 = x1 = mid
+                break
+            if (fm < 0.0) == (f0 < 0.0):
+                x0, f0 = mid, fm
+            else:
+                x1 = mid
+        roots.append(0.5 * (x0 + x1))
+    return roots
+
+
 def _real_roots(c: np.ndarray, lo: float, hi: float) -> list[float]:
-    """Real roots in [lo, hi] of the polynomial with coefficients c (lowest first), sorted."""
-    coeffs = np.trim_zeros(c[::-1], "f")
-    if coeffs.size < 2:
+    """Real roots in [lo, hi] of the polynomial with coefficients c (lowest first, up to a
+    cubic), sorted."""
+    c = np.asarray(c, dtype=float)
+    padded = np.zeros(4)
+    padded[: c.size] = c
+    if not np.any(padded[1:]):
         return []
-    roots = np.roots(coeffs)
-    real = roots[np.abs(roots.imag) <= 1e-9 * (1.0 + np.abs(roots.real))].real
-    return sorted(float(r) for r in real if lo <= r <= hi)
+    return list(_cubic_roots(*padded.tolist(), float(lo), float(hi)))
 
 
 def _extremum(c: np.ndarray, minimum: bool) -> float | None:

@@ -14,6 +14,8 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 
+from runtime import settings
+
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
 _SYMMETRIC = 1e-8  # relative to sqrt(A_ii A_jj), as in runtime.solve.lcp_dense
@@ -83,11 +85,15 @@ def row_names(rows: Sequence[int], joint: Mask, index: Sequence[int] | None = No
 
 def violations(A, b: Array, joint: Mask, f: Array, tol: float) -> tuple[Array, Array]:
     """(violation, tolerance) of every row at f: -a at contacts with f = 0, |a| at joints and
-    at contacts with f > 0, against tol * (sum_j |A_ij f_j| + |b_i|)."""
+    at contacts with f > 0, against tol * (sum_j |A_ij f_j| + |b_i|) plus the floor
+    settings.LCP_FLOOR * sqrt(A_ii) max_j(|b_j| / sqrt(A_jj), |f_j| sqrt(A_jj))."""
     a = A @ f + b
     size = abs(A) @ np.abs(f) + np.abs(b)
+    root = np.sqrt(A.diagonal())
+    live = root > 0
+    top = max(np.max(np.abs(b[live]) / root[live], initial=0.0), np.max(np.abs(f) * root))
     held = joint | (f > 0)
-    return np.where(held, np.abs(a), -a), tol * size
+    return np.where(held, np.abs(a), -a), tol * size + settings.LCP_FLOOR * root * top
 
 
 def failure(

@@ -30,8 +30,8 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import lcp_dense
-from runtime.solve.lcp_baraff import INFEASIBLE, MIN_NORM, OK, STUCK
-from runtime.solve.lcp_minnorm import dual_newton
+from runtime.solve.lcp_baraff import INFEASIBLE, MIN_NORM, OK, STUCK, _floor
+from runtime.solve.lcp_minnorm import DONE, FAILED, UNIQUE, dual_newton
 
 _ROUNDS = 50  # block pivoting rounds before the dense fallback (a warm start needs 1-3)
 _PATIENCE = 3  # rounds without fewer violations before one exchange per round
@@ -114,7 +114,9 @@ def solve(first, offset, L, rhs, x):
 
 @njit
 def residual(indptr, indices, data, b, f, tol, a, tol_a):
-    """a = S f + b and each row's tolerance tol * (sum_j |S_ij f_j| + |b_i|), S in CSR."""
+    """a = S f + b and each row's tolerance tol * (sum_j |S_ij f_j| + |b_i|) + the floor
+    (runtime.solve.lcp_baraff.residual), S in CSR."""
+    floor = _floor(b, f)
     for i in range(b.size):
         s, size = b[i], abs(b[i])
         for p in range(indptr[i], indptr[i + 1]):
@@ -122,7 +124,7 @@ def residual(indptr, indices, data, b, f, tol, a, tol_a):
             s += t
             size += abs(t)
         a[i] = s
-        tol_a[i] = tol * size
+        tol_a[i] = tol * size + floor
 
 
 @njit
@@ -144,29 +146,32 @@ def _violations(joint, member, kept, f, a, tol_a, out):
 
 @njit
 def pivot_blocks(indptr, indices, data, first, offset, values, b, joint, member, tol, counts, f):
-    """Block principal pivoting from ``member`` (updated in place); f on success. Status."""
+    """Block principal pivoting from ``member`` (updated in place), exchanging rows violated
+    beyond settings.LCP_SHARP and accepting within ``tol``; f on success. Status."""
     m = b.size
     L = np.empty(values.size)
     kept, bad = np.zeros(m, np.bool_), np.zeros(m, np.bool_)
     a, tol_a, rhs = np.empty(m), np.empty(m), np.empty(m)
     best, idle = m + 1, 0
+    sharp = min(tol, settings.LCP_SHARP)
     for _ in range(_ROUNDS):
         counts[1] += 1
         factor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept)
         for i in range(m):
             rhs[i] = -b[i] if kept[i] else 0.0
         solve(first, offset, L, rhs, f)
-        residual(indptr, indices, data, b, f, tol, a, tol_a)
+        residual(indptr, indices, data, b, f, sharp, a, tol_a)
         n = _violations(joint, member, kept, f, a, tol_a, bad)
         clipped = f.copy()
         for i in range(m):
             if not joint[i] and clipped[i] < 0.0:
                 clipped[i] = 0.0
-        if _valid(indptr, indices, data, b, joint, clipped, tol, a, tol_a):
+        if _valid(indptr, indices, data, b, joint, clipped, sharp, a, tol_a):
             f[:] = clipped
             return OK
-        if n == 0:
-            return STUCK  # the set looks right but the forces miss the tolerance
+        if n == 0:  # the set looks right: the forces are as good as this factor makes them
+            f[:] = clipped
+            return OK if _valid(indptr, indices, data, b, joint, f, tol, a, tol_a) else STUCK
         if n < best:
             best, idle = n, 0
         else:
@@ -230,25 +235,28 @@ def solve_sparse(A: sp.csr_array, b: np.ndarray, joint, guess, tol: float, count
         status = lcp_dense.solve_dense_counted(dense, b, joint, start, tol, f, clamped, counts)
         return f, clamped, status, clamped if status != OK else None
     a, tol_a = np.empty(m), np.empty(m)
-    residual(S.indptr, S.indices, S.data, bs, fs, tol, a, tol_a)
-    held = (js | (np.abs(a) <= tol_a)) & live[order]
-    trial = _least_norm(first, offset, values, S, bs, js, held, (diag / top)[order])
-    if trial is not None and _valid(S.indptr, S.indices, S.data, bs, js, trial, tol, a, tol_a):
+    sharp = min(tol, settings.LCP_SHARP)
+    residual(S.indptr, S.indices, S.data, bs, fs, sharp, a, tol_a)
+    held = (js | (fs > 0) | (np.abs(a) <= tol_a)) & live[order]
+    outcome, trial = _least_norm(first, offset, values, S, bs, js, held, (diag / top)[order], tol)
+    counts[MIN_NORM] = outcome
+    if outcome == DONE:
         fs = trial
-        counts[MIN_NORM] = 1
-        held = (js | (np.abs(a) <= tol_a)) & live[order]
+        residual(S.indptr, S.indices, S.data, bs, fs, sharp, a, tol_a)
+        held = (js | (fs > 0) | (np.abs(a) <= tol_a)) & live[order]
     f, clamped = np.zeros(m), ~live & (joint | (b <= tol * b_max))
     f[order] = fs
     clamped[order] |= held
     return d * f, clamped, OK, None
 
 
-def _least_norm(first, offset, values, S, b, joint, held, inv_w):
-    """The least-norm forces over the held rows if some are redundant, else None."""
+def _least_norm(first, offset, values, S, b, joint, held, inv_w, tol):
+    """(outcome, f): the least-norm forces over the held rows (lcp_minnorm's UNIQUE, DONE or
+    FAILED; f only with DONE)."""
     m = b.size
     L, kept = np.empty(values.size), np.zeros(m, np.bool_)
     if factor(first, offset, values, held, settings.LCP_DEPENDENT, L, kept) == held.sum():
-        return None
+        return UNIQUE, None
     basis, others = np.flatnonzero(kept), np.flatnonzero(held & ~kept)
     T = np.empty((basis.size, others.size))
     rhs, x = np.zeros(m), np.empty(m)
@@ -265,9 +273,14 @@ def _least_norm(first, offset, values, S, b, joint, held, inv_w):
         f_others,
     )  # fmt: skip
     if not done:
-        return None
+        return FAILED, None
     f = np.zeros(m)
     f[basis], f[others] = f_basis, f_others
+    f = np.where(joint, f, np.maximum(f, 0.0))
+    f[np.abs(f) <= settings.LCP_NOISE * np.max(np.abs(f))] = 0.0  # rounding, as in lcp_minnorm
+    a, tol_a = np.empty(m), np.empty(m)
+    if _valid(S.indptr, S.indices, S.data, b, joint, f, tol, a, tol_a):
+        return DONE, f
     worst = np.max(np.abs(S @ f + b)[kept])
     for _ in range(2):  # T may be ill-conditioned: refine a_B = 0 with the basis factor
         rhs[:] = np.where(kept, S @ f + b, 0.0)
@@ -277,4 +290,7 @@ def _least_norm(first, offset, values, S, b, joint, held, inv_w):
         if not after < worst:
             break
         f, worst = trial, after
-    return np.where(joint, f, np.maximum(f, 0.0))
+    f = np.where(joint, f, np.maximum(f, 0.0))
+    if _valid(S.indptr, S.indices, S.data, b, joint, f, tol, a, tol_a):
+        return DONE, f
+    return FAILED, None

@@ -62,10 +62,10 @@ LCP_LEAST_NORM_REGULAR = 1e-14  # relative to a row's curvature: the proximal te
 # equations infeasible by ~1e-16, and biases the forces by ~1e-14 of themselves
 LCP_PGS_SWEEPS = 200  # projected Gauss-Seidel sweeps of the last fallback, from the best point
 # found, before its clamped set is solved exactly (it only has to find the set)
-LCP_DENSE_MAX = 96  # rows: islands up to this size use the compiled dense solver; larger
-# islands with a sparse A use the sparse path (bench/lcp.py: the dense one costs O(m^3) per
-# cold solve, the sparse one O(m * bandwidth^2))
-LCP_SPARSE_DENSITY = 0.1  # fraction of non-zeros above which a large island is solved dense
+LCP_DENSE_MAX = 64  # rows: islands up to this size use the compiled dense solver, larger ones
+# with a sparse A the sparse path: measured on resting piles, the sparse path's ~50 us of set-up
+# (ordering, scaling) beats the dense solver's O(m^3) from ~35 rows cold and ~60 rows warm
+LCP_SPARSE_DENSITY = 0.2  # fraction of non-zeros above which a large island is solved dense
 
 # -- contacts: touching, resting, impacts ------------------------------------------------------
 

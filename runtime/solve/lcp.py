@@ -71,7 +71,10 @@ def solve(
     paths: dict[str, int] = {}
     islands = _islands(A) if m >= _ISLAND_MIN else [np.arange(m)]
     for rows in islands:
-        sub = A[np.ix_(rows, rows)] if not sp.issparse(A) else A[rows][:, rows]
+        if len(islands) == 1:
+            sub = A
+        else:
+            sub = A[np.ix_(rows, rows)] if not sp.issparse(A) else A[rows][:, rows]
         island_counts = np.zeros(N_COUNTS, np.int64)
         f_rows, _, status, blame = _solve_island(
             sub, b[rows], joint[rows], None, tol, island_counts
@@ -150,7 +153,8 @@ def _solve_island(A, b: Array, joint: Mask, guess: Mask | None, tol: float, coun
         nonzeros = A.nnz if sp.issparse(A) else np.count_nonzero(A)
         if nonzeros < settings.LCP_SPARSE_DENSITY * m * m:
             counts[lcp_dense.PATH] = PATHS.index("sparse")
-            return lcp_sparse.solve_sparse(sp.csr_array(A), b, joint, guess, tol, counts)
+            A = A if isinstance(A, sp.csr_array) else sp.csr_array(A)
+            return lcp_sparse.solve_sparse(A, b, joint, guess, tol, counts)
     dense = np.ascontiguousarray(A.toarray() if sp.issparse(A) else A, dtype=np.float64)
     f, clamped = np.empty(m), np.empty(m, np.bool_)
     status = lcp_dense.solve_dense_counted(dense, b, joint, guess, tol, f, clamped, counts)

@@ -46,8 +46,9 @@ def prepare(
     b = np.array(b, dtype=float).reshape(-1)
     n = b.size
     if sp.issparse(A):
-        A = sp.csr_array(A, dtype=float, copy=True)
-        A.sum_duplicates()  # (and sorts the indices)
+        if not (isinstance(A, sp.csr_array) and A.dtype == float and A.has_canonical_format):
+            A = sp.csr_array(A, dtype=float, copy=True)  # (the caller's matrix stays as it is)
+            A.sum_duplicates()  # and sorts the indices
         if A.shape != (n, n):
             raise ValueError(f"A has shape {A.shape}, expected ({n}, {n}) to match b")
         problem = check_csr(A.indptr, A.indices, A.data, A.diagonal())

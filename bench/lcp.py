@@ -167,31 +167,34 @@ def scipy_qp(A: sp.csr_array, b: np.ndarray) -> np.ndarray:
 def time_call(fn) -> tuple[float, object, bool]:
     """(best seconds per call, the last result, finished) -- timeit-style, see the module
     docstring; ``finished`` is False if a single call ran past BUDGET (then a lower bound).
-    A first call (compiling what it needs) is not counted unless it took over 10 s."""
-    gc.disable()
-    try:
-        for _ in range(2):
-            start = time.perf_counter()
-            try:
-                with deadline(BUDGET):
-                    result = fn()
-            except OutOfTime:
-                return time.perf_counter() - start, None, False
-            once = time.perf_counter() - start
-            if once > 10.0:
-                break
-        if once > MIN_RUN:
-            return once, result, True
-        calls = max(1, int(MIN_RUN / max(once, 1e-7)))
-        best = once
-        for _ in range(REPEATS):
+    A first call (compiling what it needs) is not counted unless it took over 10 s. Garbage
+    collection runs before each measurement and is off only within the loops of short calls."""
+    for _ in range(2):
+        gc.collect()
+        start = time.perf_counter()
+        try:
+            with deadline(BUDGET):
+                result = fn()
+        except OutOfTime:
+            return time.perf_counter() - start, None, False
+        once = time.perf_counter() - start
+        if once > 10.0:
+            break
+    if once > MIN_RUN:
+        return once, result, True
+    calls = max(1, int(MIN_RUN / max(once, 1e-7)))
+    best = once
+    for _ in range(REPEATS):
+        gc.collect()
+        gc.disable()
+        try:
             start = time.perf_counter()
             for _ in range(calls):
                 result = fn()
             best = min(best, (time.perf_counter() - start) / calls)
-        return best, result, True
-    finally:
-        gc.enable()
+        finally:
+            gc.enable()
+    return best, result, True
 
 
 def methods(problem: Problem) -> list[tuple[str, object]]:

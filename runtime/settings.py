@@ -32,9 +32,10 @@ LCP_TOL = 1e-9  # relative, row by row: f solves the LCP if every |a_i| at a cla
 # typically), far below; a pile resting on such forces creeps by < 1e-9 of its weight's
 # acceleration.
 LCP_SHARP = 1e-12  # relative, like LCP_TOL: what the solver aims for -- pivoting drives every
-# row violated beyond it, a warm start must meet it to count as a hit, and rows within it of
-# a = 0 are the held set. LCP_TOL only decides acceptance: a row 1e-9 off in a near-redundant
-# pair (Schur complement 1e-9) would otherwise leave a force off by 100 % unnoticed
+# row violated beyond it and a warm start must meet it to count as a hit; LCP_TOL decides
+# acceptance and which rows are held (a = 0) for the least-norm forces. Pivoting to LCP_TOL
+# would leave a row 1e-9 off in a near-redundant pair (Schur complement 1e-9), and with it a
+# force off by 100 %, unnoticed
 LCP_FLOOR = 1e-12  # relative to the largest scaled |b_i| or |f_i| (one unit for every row of
 # the scaled problem): added to every row's tolerance, for rows whose own terms are ~0 while b
 # carries rounding of terms that cancelled (a b_i of 1e-17 where 0 was meant) or forces on

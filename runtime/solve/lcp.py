@@ -8,9 +8,10 @@ Entry points (signatures are the contract with the engine):
 
     f = solve(A, b, joint=None, *, tol=None, stats=None)
         A: array-like or scipy.sparse (m, m); b: (m,); joint: (m,) bool or None; tol: relative
-        row tolerance (None: settings.LCP_TOL); stats: a dict that receives counts. Splits the
-        problem into contact islands (connected components of A's pattern) and solves each
-        cold. Returns f (m,) float64; raises ValueError for bad input, ContactSolverError(message,
+        row tolerance (None: settings.LCP_TOL); stats: a dict that receives counts. Splits a
+        problem of more than settings.LCP_DENSE_MAX rows into contact islands (connected
+        components of A's pattern) and solves each cold (a smaller one is solved whole: the
+        dense solver is cheaper than finding them). Returns f (m,) float64; raises ValueError for bad input, ContactSolverError(message,
         rows) when no valid force exists (naming the rows and the residual).
     f, clamped = solve_warm(A, b, joint=None, guess=None, tol=None)
         One island, warm-started: ``guess`` is the ``clamped`` of the previous solve of the same
@@ -51,7 +52,6 @@ __all__ = ["ContactSolverError", "DEFAULT_TOL", "solve", "solve_dense", "solve_p
 
 DEFAULT_TOL = settings.LCP_TOL  # the name runtime.step.resting and solve.warm_start use
 PATHS = ("none", "warm hit", "pivoting", "pivoting afresh", "polished", "single row", "sparse")
-_ISLAND_MIN = 8  # rows: smaller problems are solved whole (finding islands costs more)
 
 
 def solve(
@@ -69,7 +69,7 @@ def solve(
     f = np.zeros(m)
     counts = np.zeros(N_COUNTS, np.int64)
     paths: dict[str, int] = {}
-    islands = _islands(A) if m >= _ISLAND_MIN else [np.arange(m)]
+    islands = _islands(A) if m > settings.LCP_DENSE_MAX else [np.arange(m)]
     for rows in islands:
         if len(islands) == 1:
             sub = A

@@ -174,7 +174,7 @@ def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts, budgets):
             for i in range(m):
                 held[i] = held[i] or blame[i]
             return first
-    residual(S, b, f, sharp, a, tol_a)
+    residual(S, b, f, tol, a, tol_a)
     members = np.empty(m, np.int64)
     count = 0
     for i in range(m):
@@ -190,7 +190,7 @@ def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts, budgets):
         counts[MIN_NORM] = outcome
         if outcome == DONE:
             f[:] = trial
-            residual(S, b, f, sharp, a, tol_a)
+            residual(S, b, f, tol, a, tol_a)
     for i in range(m):
         held[i] = held[i] or (S[i, i] > 0.0 and (joint[i] or f[i] > 0.0 or abs(a[i]) <= tol_a[i]))
     return OK

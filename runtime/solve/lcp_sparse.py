@@ -147,9 +147,9 @@ def solve_sparse(A: sp.csr_array, b: np.ndarray, joint, guess, tol: float, count
 
 
 def _held(S, b, joint, f, tol, live) -> np.ndarray:
-    """The held rows: joints, contacts with a force, and contacts within LCP_SHARP of a = 0."""
+    """The held rows: joints, contacts with a force, and contacts within ``tol`` of a = 0."""
     a, tol_a = np.empty(b.size), np.empty(b.size)
-    env.residual(*S, b, f, min(tol, settings.LCP_SHARP), a, tol_a)
+    env.residual(*S, b, f, tol, a, tol_a)
     return (joint | (f > 0) | (np.abs(a) <= tol_a)) & live
 
 

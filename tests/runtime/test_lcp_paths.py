@@ -267,8 +267,10 @@ def test_joint_and_redundant_contact_share_the_load() -> None:
 
 
 def test_islands_are_solved_apart() -> None:
-    """Three stacks in one problem, rows interleaved: one island each, the exact forces."""
-    parts = [stack(MASSES[:3]), stack(MASSES[2:]), stack([1.0, 1.0])]
+    """Three stacks (75 rows, more than LCP_DENSE_MAX) in one problem, rows interleaved: one
+    island each, the exact forces."""
+    rng = np.random.default_rng(1)
+    parts = [stack(rng.uniform(0.5, 2.0, n)) for n in (30, 25, 20)]
     sizes = [len(p[1]) for p in parts]
     order = np.random.default_rng(0).permutation(sum(sizes))
     A = np.zeros((sum(sizes), sum(sizes)))

@@ -52,6 +52,9 @@ LCP_PIVOT_ROUNDING = 3.6e-15  # 16 eps: a pivot's rounding, times S_jj + sum_i r
 # L_ii^2 (runtime.solve.lcp_factor.trial); a pivot below it is indistinguishable from 0
 LCP_NOISE = 1e-12  # relative to max |Delta f|: entries of a pivoting direction (Delta f, and
 # Delta a of the unit-diagonal S) this small are rounding, not motion, and never limit a step
+LCP_SYMMETRY = 1e-8  # relative to sqrt(A_ii A_jj): input whose A_ij and A_ji differ by more
+# (or |A_ij| exceeds sqrt(A_ii A_jj), impossible for a PSD A) is refused; A = J M^-1 J^T
+# assembled in float64 is symmetric to ~1e-16
 LCP_ZERO_ROW = 1e-24  # relative to the largest A_ii: a row below it is one no force can move
 # (a contact between two fixed bodies); 1e-24 resolves any mass ratio up to 1e24
 LCP_LEAST_NORM_DONE = 1e-12  # relative to the size of its terms: the least-norm stage's

@@ -8,16 +8,19 @@ Entry points (signatures are the contract with the engine):
 
     f = solve(A, b, joint=None, *, tol=None, stats=None)
         A: array-like or scipy.sparse (m, m); b: (m,); joint: (m,) bool or None; tol: relative
-        row tolerance (None: settings.LCP_TOL); stats: a dict that receives counts. Splits a
-        problem of more than settings.LCP_DENSE_MAX rows into contact islands (connected
-        components of A's pattern) and solves each cold (a smaller one is solved whole: the
-        dense solver is cheaper than finding them). Returns f (m,) float64; raises ValueError for bad input, ContactSolverError(message,
-        rows) when no valid force exists (naming the rows and the residual).
+        row tolerance (None: settings.LCP_TOL); stats: a dict that receives counts (islands,
+        paths taken, drives, pivots, least_norm). Splits a problem of more than
+        settings.LCP_DENSE_MAX rows into contact islands (connected components of A's
+        pattern) and solves each cold; a smaller one is solved whole (the dense solver costs
+        less than finding them). Returns f (m,) float64; raises ValueError for bad input and
+        ContactSolverError(message, rows) when no valid force exists (naming the rows and
+        the residual).
     f, clamped = solve_warm(A, b, joint=None, guess=None, tol=None)
         One island, warm-started: ``guess`` is the ``clamped`` of the previous solve of the same
-        rows (None or all False: cold). Dense compiled solver up to settings.LCP_DENSE_MAX rows
-        (or a dense A), the sparse path above. Returns f and clamped (m,) bool, the held rows
-        (a = 0: joints and touching contacts); raises as ``solve``.
+        rows (None or all False: cold). The compiled dense solver up to settings.LCP_DENSE_MAX
+        rows (and for a larger A fuller than settings.LCP_SPARSE_DENSITY), the sparse path
+        otherwise. Returns f and clamped (m,) bool, the held rows (a = 0 within tol: joints
+        and touching contacts); raises as ``solve``.
     status = solve_dense(A, b, joint, guess, tol, f_out, clamped_out)
         The compiled core (runtime.solve.lcp_dense; callable from numba code): A (m, m) float64
         C-contiguous, b (m,) float64, joint and guess (m,) bool, tol float (<= 0: the default),

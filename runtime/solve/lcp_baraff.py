@@ -39,7 +39,7 @@ DRIVES, PIVOTS, REFACTORS, PATH, MIN_NORM, N_COUNTS = 0, 1, 2, 3, 4, 5  # entrie
 def residual(S, b, f, tol, a, tol_a):
     """a = S f + b and each row's tolerance tol * (sum_j |S_ij f_j| + |b_i|) + the floor."""
     m = b.size
-    floor = _floor(b, f)
+    floor = tolerance_floor(b, f)
     for i in range(m):
         s = b[i]
         size = abs(b[i])
@@ -53,7 +53,7 @@ def residual(S, b, f, tol, a, tol_a):
 
 
 @njit
-def _floor(b, f):
+def tolerance_floor(b, f):
     """settings.LCP_FLOOR of the largest scaled b or f: rounding that a row's own terms may not
     show (b built from terms that cancelled, forces moved elsewhere by the least-norm stage)."""
     top = 0.0

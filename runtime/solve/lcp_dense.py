@@ -59,7 +59,7 @@ WARM_HIT, PIVOTED, PIVOTED_FRESH, POLISHED, SINGLE = 1, 2, 3, 4, 5  # counts[PAT
 _DEPENDENT, _NOISE = settings.LCP_DEPENDENT, settings.LCP_NOISE
 _ZERO_ROW, _SWEEPS, _TOL = settings.LCP_ZERO_ROW, settings.LCP_PGS_SWEEPS, settings.LCP_TOL
 _SHARP, _REDUNDANT = settings.LCP_SHARP, settings.LCP_REDUNDANT
-_SYMMETRIC = 1e-8  # relative to sqrt(A_ii A_jj): |A_ij - A_ji| above this is not symmetric
+_SYMMETRIC = settings.LCP_SYMMETRY
 
 
 @njit
@@ -141,13 +141,12 @@ def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts, budgets):
     tune = np.array((_DEPENDENT, _NOISE, 0.0, budgets[0]))
     L, rows = np.empty((m, m)), np.empty(m, np.int64)
     state, culprit = np.zeros(m, np.int8), np.zeros(m, np.bool_)
-    k, status, normed = 0, STUCK, False
+    k, status, settled = 0, STUCK, False
     if np.any(guess):
-        k, hit, normed = _warm(S, b, joint, guess, sharp, tol, inv_w, f, L, rows, state, a, tol_a)
+        k, hit, settled = _warm(S, b, joint, guess, sharp, tol, inv_w, f, L, rows, state, a, tol_a)
         if hit:
             status = OK
             counts[PATH] = WARM_HIT
-            counts[MIN_NORM] = normed
     if status != OK:
         counts[PATH] = PIVOTED
         status, k = _pivot(S, b, joint, sharp, tol, tune, f, state, L, rows, k, culprit, counts)
@@ -164,7 +163,7 @@ def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts, budgets):
             f[:] = best
             pgs(S, b, joint, f, _SWEEPS)
             support = joint | (f > 0.0)
-            k, hit, normed = _warm(
+            k, hit, settled = _warm(
                 S, b, joint, support, sharp, tol, inv_w, f, L, rows, state, a, tol_a
             )
             if hit or is_solution(S, b, joint, f, tol, a, tol_a):
@@ -181,7 +180,7 @@ def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts, budgets):
         if S[i, i] > 0.0 and (joint[i] or f[i] > 0.0 or abs(a[i]) <= tol_a[i]):
             members[count] = i
             count += 1
-    same = normed  # the least norm over the guess is the least norm if the held set is the guess
+    same = settled and counts[PATH] == WARM_HIT  # a hit over the same set: no least-norm stage
     for c in range(count):
         same = same and (guess[members[c]] or joint[members[c]])
     if count > 1 and not same:
@@ -218,8 +217,9 @@ def _warm(S, b, joint, guess, sharp, tol, inv_w, f, L, rows, state, a, tol_a):
     returned), since a basic solution over an arbitrary basis may need a negative force. On a
     miss, leave a valid state for pivoting: the guessed rows with f >= 0, dropping the most
     negative force and solving again until none is negative. A hit meets ``sharp`` (the
-    least-norm forces: ``tol``, as the solve that returned them). Returns (k, hit, least-norm
-    hit)."""
+    least-norm forces: ``tol``, as the solve that returned them). Returns (k, hit, settled):
+    settled when the hit's forces are already the least-norm ones over G (G has no
+    near-redundant row, or they are its least-norm forces)."""
     m = b.size
     candidates = np.empty(m, np.int64)
     n = 0
@@ -233,7 +233,8 @@ def _warm(S, b, joint, guess, sharp, tol, inv_w, f, L, rows, state, a, tol_a):
             n += 1
     work = np.empty(m)
     k = fac.factor_basis(S, candidates, n, L, rows, _REDUNDANT)
-    if k < n:  # some guessed rows (nearly) depend on others: the least norm, as last time
+    unique = k == n
+    if not unique:  # some guessed rows (nearly) depend on others: the least norm, as last time
         if _least_norm(S, b, joint, inv_w, candidates, n, tol, f) == DONE:
             return k, True, True
         k = fac.factor_basis(S, candidates, n, L, rows, _DEPENDENT)
@@ -242,7 +243,7 @@ def _warm(S, b, joint, guess, sharp, tol, inv_w, f, L, rows, state, a, tol_a):
     if is_solution(S, b, joint, trial, sharp, a, tol_a):
         f[:] = trial
         _clamp(state, rows, k)
-        return k, True, False
+        return k, True, unique
     while True:
         worst, at = 0.0, -1
         for c in range(k):

@@ -23,10 +23,10 @@ import numpy as np
 
 from runtime import settings
 from runtime.compiled import njit
-from runtime.solve.lcp_baraff import _floor
+from runtime.solve.lcp_baraff import tolerance_floor
 
 _ROUNDING = settings.LCP_PIVOT_ROUNDING
-_SYMMETRIC = 1e-8  # relative to sqrt(A_ii A_jj), as in runtime.solve.lcp_dense
+_SYMMETRIC = settings.LCP_SYMMETRY
 FINE, NOT_FINITE, NEGATIVE_DIAGONAL, NOT_SYMMETRIC, NOT_PSD = 0, 1, 2, 3, 4  # check_csr
 
 
@@ -175,7 +175,7 @@ def solve(first, offset, L, rhs, x):
 def residual(indptr, indices, data, b, f, tol, a, tol_a):
     """a = S f + b and each row's tolerance tol * (sum_j |S_ij f_j| + |b_i|) + the floor
     (runtime.solve.lcp_baraff.residual), S in CSR."""
-    floor = _floor(b, f)
+    floor = tolerance_floor(b, f)
     for i in range(b.size):
         s, size = b[i], abs(b[i])
         for p in range(indptr[i], indptr[i + 1]):

@@ -26,7 +26,7 @@ from runtime.solve.lcp_envelope import (
 
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
-_SYMMETRIC = 1e-8  # relative to sqrt(A_ii A_jj), as in runtime.solve.lcp_dense
+_SYMMETRIC = settings.LCP_SYMMETRY
 
 
 class ContactSolverError(RuntimeError):

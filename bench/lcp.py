@@ -24,7 +24,10 @@ sum_j |A_ij f_j| + |b_i| (the solver's measure; settings.LCP_TOL = 1e-9 accepts)
 
 Timing is timeit-style: calls looped to >= MIN_RUN seconds, the best of REPEATS runs; a
 solve that takes longer than a run is timed once; one that exceeds BUDGET is cut and reported
-as a lower bound.
+as a lower bound. BLAS runs on one thread (the module re-executes itself with
+OPENBLAS_NUM_THREADS=1): on the shared 2-core machine OpenBLAS's threads made a 92 x 153
+product take 31 ms instead of 0.15 ms, which would have timed the machine's load, not the
+methods (the compiled solver uses no BLAS).
 
     python -m bench.lcp            # rewrites the "## Contact forces" section of bench/README.md
     python -m bench.lcp --quick    # 10 and 100 contacts, short runs, README untouched
@@ -280,6 +283,9 @@ def section(problems: list[Problem], cells: dict[str, list[str]], wall: float) -
 
 
 def main(argv: list[str] | None = None) -> None:
+    if os.environ.get("OPENBLAS_NUM_THREADS") != "1":  # see the module docstring
+        env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+        os.execve(sys.executable, [sys.executable, "-m", "bench.lcp", *sys.argv[1:]], env)
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="10 and 100 contacts, no README")
     args = parser.parse_args(argv)

@@ -103,23 +103,13 @@ def solve_sparse(A: sp.csr_array, b: np.ndarray, joint, guess, tol: float, count
     """(f, clamped, status, blame) of one island by the sparse path (see the module docstring).
     A: CSR with sorted indices (runtime.solve.lcp_problem.prepare)."""
     m = b.size
+    order = reverse_cuthill_mckee(sp.csr_matrix(A), symmetric_mode=True).astype(np.int64)
     diag = A.diagonal()
-    top = float(np.max(diag, initial=0.0))
-    live = diag > settings.LCP_ZERO_ROW * top
-    d = np.where(live, 1.0 / np.sqrt(np.where(live, diag, 1.0)), 0.0)
-    b_max = float(np.max(np.abs(b), initial=0.0))
-    dead = ~live & ((b < -tol * b_max) | (joint & (b > tol * b_max)))
+    S, envelope, d, bs, js, live, member, dead = _set_up(
+        A.indptr, A.indices, A.data, diag, b, joint, guess, order, tol
+    )
     if dead.any():
         return np.zeros(m), dead, INFEASIBLE, dead
-    order = reverse_cuthill_mckee(sp.csr_matrix(A), symmetric_mode=True)
-    position = np.empty(m, np.int64)
-    position[order] = np.arange(m)
-    S = env.scaled(A.indptr, A.indices, A.data, d, position)
-    envelope = env.envelope(*S)
-    bs, js, live = (d * b)[order], joint[order], live[order]
-    member = (js | guess[order] | (bs < 0.0)) & live
-    if not guess.any():
-        member |= live  # cold: everything clamped first (a resting pile mostly is)
     fs = np.zeros(m)
     status, smallest, whole = pivot_blocks(S, envelope, bs, js, member, tol, counts, fs)
     if status != OK:  # the dense solver, warm-started from the best set
@@ -131,7 +121,7 @@ def solve_sparse(A: sp.csr_array, b: np.ndarray, joint, guess, tol: float, count
         return f, clamped, status, clamped if status != OK else None
     held = _held(S, bs, js, fs, tol, live)
     if not (whole and smallest > settings.LCP_REDUNDANT and np.array_equal(held, member)):
-        inv_w = (diag / top)[order]
+        inv_w = (diag / np.max(diag))[order]
         for threshold in (settings.LCP_REDUNDANT, settings.LCP_DEPENDENT):
             outcome, trial = _least_norm(S, envelope, bs, js, held, inv_w, threshold, tol)
             counts[MIN_NORM] = outcome
@@ -140,17 +130,67 @@ def solve_sparse(A: sp.csr_array, b: np.ndarray, joint, guess, tol: float, count
         if outcome == DONE:
             fs = trial
             held = _held(S, bs, js, fs, tol, live)
-    f, clamped = np.zeros(m), np.zeros(m, np.bool_)
-    f[order], clamped[order] = d[order] * fs, held
-    clamped |= ~live[position] & (joint | (b <= tol * b_max))
+    f, clamped = _tear_down(order, d, fs, held, live, joint, b, tol)
     return f, clamped, OK, None
 
 
-def _held(S, b, joint, f, tol, live) -> np.ndarray:
+@njit
+def _set_up(indptr, indices, data, diag, b, joint, guess, order, tol):
+    """The scaled problem in the given order: S (CSR), its envelope, D's diagonal d, and b,
+    joint, live (S_ii > 0) and the starting clamped set in that order; also the rows no force
+    moves that need one (``dead``, in the original order)."""
+    m = b.size
+    top, b_max = 0.0, 0.0
+    for i in range(m):
+        top = max(top, diag[i])
+        b_max = max(b_max, abs(b[i]))
+    d = np.zeros(m)
+    dead = np.zeros(m, np.bool_)
+    for i in range(m):
+        if diag[i] > settings.LCP_ZERO_ROW * top:
+            d[i] = 1.0 / np.sqrt(diag[i])
+        else:
+            dead[i] = b[i] < -tol * b_max or (joint[i] and b[i] > tol * b_max)
+    position = np.empty(m, np.int64)
+    position[order] = np.arange(m)
+    S = env.scaled(indptr, indices, data, d, position)
+    envelope = env.envelope(S[0], S[1], S[2])
+    cold = not np.any(guess)
+    bs, js = np.empty(m), np.empty(m, np.bool_)
+    live, member = np.empty(m, np.bool_), np.empty(m, np.bool_)
+    for r in range(m):
+        i = order[r]
+        bs[r], js[r], live[r] = d[i] * b[i], joint[i], d[i] > 0.0
+        member[r] = live[r] and (cold or joint[i] or guess[i] or bs[r] < 0.0)
+    return S, envelope, d, bs, js, live, member, dead
+
+
+@njit
+def _held(S, b, joint, f, tol, live):
     """The held rows: joints, contacts with a force, and contacts within ``tol`` of a = 0."""
-    a, tol_a = np.empty(b.size), np.empty(b.size)
-    env.residual(*S, b, f, tol, a, tol_a)
-    return (joint | (f > 0) | (np.abs(a) <= tol_a)) & live
+    m = b.size
+    a, tol_a = np.empty(m), np.empty(m)
+    env.residual(S[0], S[1], S[2], b, f, tol, a, tol_a)
+    held = np.empty(m, np.bool_)
+    for i in range(m):
+        held[i] = live[i] and (joint[i] or f[i] > 0.0 or abs(a[i]) <= tol_a[i])
+    return held
+
+
+@njit
+def _tear_down(order, d, fs, held, live, joint, b, tol):
+    """Forces and the clamped set back in the original order and units; rows no force moves
+    are clamped when they need no force (b ~ 0, or b >= 0 at a contact: they touch)."""
+    m = b.size
+    b_max = 0.0
+    for i in range(m):
+        b_max = max(b_max, abs(b[i]))
+    f, clamped = np.zeros(m), np.zeros(m, np.bool_)
+    for r in range(m):
+        i = order[r]
+        f[i] = d[i] * fs[r]
+        clamped[i] = held[r] or (not live[r] and (joint[i] or b[i] <= tol * b_max))
+    return f, clamped
 
 
 def _least_norm(S, envelope, b, joint, held, inv_w, dependent, tol):

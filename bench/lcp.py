@@ -22,9 +22,10 @@ Every method's residual is reported: the largest violation of the contact condit
 (|a| where f > 0, -a where f = 0, in m/s^2), and relative to each row's size
 sum_j |A_ij f_j| + |b_i| (the solver's measure; settings.LCP_TOL = 1e-9 accepts).
 
-Timing is timeit-style: calls looped to >= MIN_RUN seconds, the best of REPEATS runs; a
-solve that takes longer than a run is timed once; one that exceeds BUDGET is cut and reported
-as a lower bound. BLAS runs on one thread (the module re-executes itself with
+Timing is timeit-style, in CPU time of the process (the machine is shared: wall time would
+time the other processes' load): calls looped to >= MIN_RUN seconds, the best of REPEATS runs;
+a solve that takes longer than a run is timed once; one that exceeds BUDGET (of wall time) is
+cut and reported as a lower bound. BLAS runs on one thread (the module re-executes itself with
 OPENBLAS_NUM_THREADS=1): on the shared 2-core machine OpenBLAS's threads made a 92 x 153
 product take 31 ms instead of 0.15 ms, which would have timed the machine's load, not the
 methods (the compiled solver uses no BLAS).
@@ -174,13 +175,13 @@ def time_call(fn) -> tuple[float, object, bool]:
     collection runs before each measurement and is off only within the loops of short calls."""
     for _ in range(2):
         gc.collect()
-        start = time.perf_counter()
+        start = time.process_time()
         try:
             with deadline(BUDGET):
                 result = fn()
         except OutOfTime:
-            return time.perf_counter() - start, None, False
-        once = time.perf_counter() - start
+            return time.process_time() - start, None, False
+        once = time.process_time() - start
         if once > 10.0:
             break
     if once > MIN_RUN:
@@ -191,10 +192,10 @@ def time_call(fn) -> tuple[float, object, bool]:
         gc.collect()
         gc.disable()
         try:
-            start = time.perf_counter()
+            start = time.process_time()
             for _ in range(calls):
                 result = fn()
-            best = min(best, (time.perf_counter() - start) / calls)
+            best = min(best, (time.process_time() - start) / calls)
         finally:
             gc.enable()
     return best, result, True
@@ -265,7 +266,7 @@ def section(problems: list[Problem], cells: dict[str, list[str]], wall: float) -
         f"Written by `python -m bench.lcp` (`make bench`); run {when} on {cpu()}, Python "
         f"{platform.python_version()}, NumPy {np.__version__}, SciPy {scipy.__version__}; "
         f"{wall:.0f} s, 1-minute load average {load:.1f} at the end (other processes share "
-        "the cores: best of several runs).",
+        "the cores: CPU time of the process, best of several runs, one BLAS thread).",
         "",
         "One solve of the contact LCP of a resting pile of discs in a box (bench/steps.py's "
         "pile, A and b from its geometry). Each cell: time per solve; the largest violation "

@@ -30,17 +30,26 @@ from runtime.step.variations import Variations
 class Layout:
     """The combined scene of the copies ``members`` (increasing copy numbers): ``index``
     (M, n) is the combined index of each template body in each member; per combined body,
-    ``member`` is its member position (-1: shared) and ``template`` its template index."""
+    ``member`` is its member position (-1: shared) and ``template`` its template index;
+    ``shared`` and ``own``: the template indices of the shared bodies and of a copy's own."""
 
     scene: Scene
     members: np.ndarray
     index: np.ndarray
     member: np.ndarray
     template: np.ndarray
+    shared: np.ndarray
+    own: np.ndarray
 
     def per_copy(self, values: np.ndarray) -> np.ndarray:
-        """(M, n, ...) from a per-body array of the combined scene, (bodies, ...)."""
-        return values[self.index]
+        """(M, n, ...) from a per-body array of the combined scene, (bodies, ...): the copies'
+        own bodies are one block (a reshape), the shared ones are repeated."""
+        rest = values.shape[1:]
+        out = np.empty((len(self.members), self.index.shape[1], *rest))
+        s = len(self.shared)
+        out[:, self.own] = values[s:].reshape(len(self.members), len(self.own), *rest)
+        out[:, self.shared] = values[:s]
+        return out
 
 
 class Copies:
@@ -76,7 +85,10 @@ class Copies:
         groups = np.r_[np.full(shared, -1), np.repeat(members, own)]
         template = np.r_[self.shared, np.tile(self.own, len(members))]
         scene = replace(self.template, bodies=bodies, groups=groups.tolist())
-        return Layout(scene, members, index, member.astype(np.int64), template.astype(np.int64))
+        return Layout(
+            scene, members, index, member.astype(np.int64), template.astype(np.int64),
+            self.shared, self.own,
+        )  # fmt: skip
 
     def stepper(
         self,

@@ -30,6 +30,7 @@ class CopyGuards:
         self.limits, self.method = guards, method
         self.names = template.names
         self.fixed = np.asarray(template.fixed, dtype=bool)
+        self.moving = np.flatnonzero(~self.fixed)
         self.radii = np.array([s.bounding_radius for s in template.shapes], dtype=float)
         self.inner = np.array([inner_radius(s) for s in template.shapes])
         self.mass = np.zeros((copies.count, copies.n))
@@ -51,17 +52,23 @@ class CopyGuards:
 
     # -- energy ----------------------------------------------------------------------------
 
+    def _of(self, members: np.ndarray, table: np.ndarray) -> np.ndarray:
+        """The moving bodies' columns of a per-copy table (N, n) for the members."""
+        rows = table if len(members) == len(table) else table[members]  # all: in order
+        return rows[:, self.moving]
+
     def kinetic(self, members: np.ndarray, v: np.ndarray) -> np.ndarray:
         """(M,) kinetic energy of each member copy; ``v`` (M, n, 3)."""
-        terms = 0.5 * self.mass[members] * (v[..., 0] ** 2 + v[..., 1] ** 2)
-        terms = terms + 0.5 * self.inertia[members] * v[..., 2] ** 2
-        return np.sum(np.where(self.fixed, 0.0, terms), axis=1)
+        v = v[:, self.moving]
+        terms = 0.5 * self._of(members, self.mass) * (v[..., 0] ** 2 + v[..., 1] ** 2)
+        terms += 0.5 * self._of(members, self.inertia) * v[..., 2] ** 2
+        return np.sum(terms, axis=1)
 
     def energy(self, members: np.ndarray, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """(M,) mechanical energy (kinetic + gravitational) of each member copy (J)."""
-        g = self.gravity[members]
+        g, q = self.gravity[members], q[:, self.moving]
         height = g[:, None, 0] * q[..., 0] + g[:, None, 1] * q[..., 1]
-        potential = np.sum(np.where(self.fixed, 0.0, -self.mass[members] * height), axis=1)
+        potential = np.sum(-self._of(members, self.mass) * height, axis=1)
         return self.kinetic(members, v) + potential
 
     def start(self, members: np.ndarray, q: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -72,8 +79,9 @@ class CopyGuards:
             g = np.hypot(self.gravity[members, 0], self.gravity[members, 1])
             y = q[..., 1]
             height = np.max(y + self.radii, axis=1) - np.min(y - self.radii, axis=1)
-            weight = self.mass[members] * g[:, None] * (height[:, None] + 2.0 * self.radii)
-            scale = self.kinetic(members, v) + np.sum(np.where(self.fixed, 0.0, weight), axis=1)
+            r = self.radii[self.moving]
+            weight = self._of(members, self.mass) * g[:, None] * (height[:, None] + 2.0 * r)
+            scale = self.kinetic(members, v) + np.sum(weight, axis=1)
         self.energy0, self.scale = energy, scale
         if self.limits.energy_growth is None:
             self.scale = np.zeros_like(scale)
@@ -114,13 +122,14 @@ class CopyGuards:
                 )
         return failed
 
-    def after_step(self, layout: Layout, q, new_q, new_v, energy, skip: set) -> dict:
+    def after_step(self, layout: Layout, q, new_q, per_copy, energy, skip: set) -> dict:
         """{member: what went wrong} (World.step's words) of the copies other than ``skip``
-        whose step from poses ``q`` to (new_q, new_v) (combined, (bodies, 3)) gave a non-finite
-        state, a centre of mass through a fixed edge, two bodies through each other, or an
-        energy ``energy`` (M,) too high."""
+        whose step from poses ``q`` to ``new_q`` (combined, (bodies, 3); ``per_copy``: the
+        poses before, and the poses and velocities after, per copy (M, n, 3)) gave a
+        non-finite state, a centre of mass through a fixed edge, two bodies through each other,
+        or an energy ``energy`` (M,) too high."""
         failed: dict[int, str] = {}
-        qc, new_qc, new_vc = layout.per_copy(q), layout.per_copy(new_q), layout.per_copy(new_v)
+        qc, new_qc, new_vc = per_copy
         finite = np.all(np.isfinite(new_qc) & np.isfinite(new_vc), axis=(1, 2))
         for m in np.flatnonzero(~finite).tolist():
             failed.setdefault(m, "produced a non-finite state")
@@ -145,7 +154,7 @@ class CopyGuards:
     def _tunnelled(self, qc, new_qc, failed: dict, skip: set) -> None:
         """A moving centre of mass whose straight path crosses an edge of a fixed body of its
         copy: checked in each fixed body's own frame, so one FixedEdges serves every copy."""
-        moving = np.flatnonzero(~self.fixed)
+        moving = self.moving
         for f, edges in self.edges:
             pose = qc[:, f]
             p0 = _local(qc[:, moving, :2], pose).reshape(-1, 2)

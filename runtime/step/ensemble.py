@@ -156,13 +156,13 @@ class _Recorder:
         self.records = np.zeros(copies.count, dtype=np.int64)
         self.min_gap = np.full(copies.count, np.inf)
 
-    def add(self, layout: Layout, ok: np.ndarray, q, v, energy, frame) -> None:
-        """One record of the members ``ok`` (positions): the combined state (q, v), their
+    def add(self, layout: Layout, ok: np.ndarray, qc, vc, energy, frame) -> None:
+        """One record of the members ``ok`` (positions): their state (qc, vc: (M, n, 3)),
         energies and the frame at that state (its smallest gap per copy)."""
         copies = layout.members[ok]
         k = self.records[copies]
-        self.poses[copies, k] = layout.per_copy(q)[ok]
-        self.velocities[copies, k] = layout.per_copy(v)[ok]
+        self.poses[copies, k] = qc[ok]
+        self.velocities[copies, k] = vc[ok]
         self.energy[copies, k] = energy[ok]
         self.records[copies] += 1
         rows = frame.rows
@@ -203,10 +203,12 @@ class _Driver:
 
     def start(self, recorder: _Recorder) -> None:
         self.recorder = recorder
-        layout = self.layout
-        self.energy = self.guards.start(
-            layout.members, layout.per_copy(self.q), layout.per_copy(self.v)
-        )
+        self._gather()
+        self.energy = self.guards.start(self.layout.members, self.qc, self.vc)
+
+    def _gather(self) -> None:
+        """The state per copy, (M, n, 3) each."""
+        self.qc, self.vc = self.layout.per_copy(self.q), self.layout.per_copy(self.v)
 
     def step(self, k: int, h: float, record: bool) -> None:
         """Step k (length h) of every running copy; the copies that fail are dropped."""
@@ -225,9 +227,12 @@ class _Driver:
             return
         layout, guards = self.layout, self.guards
         failed = guards.overlaps(layout, report.frame, k, self.t, self.before)
+        _wrap_angles(new_q)
+        new_qc, new_vc = layout.per_copy(new_q), layout.per_copy(new_v)
         with np.errstate(all="ignore"):
-            energy = guards.energy(layout.members, layout.per_copy(new_q), layout.per_copy(new_v))
-        found = guards.after_step(layout, self.q, new_q, new_v, energy, set(failed))
+            energy = guards.energy(layout.members, new_qc, new_vc)
+        per_copy = (self.qc, new_qc, new_vc)
+        found = guards.after_step(layout, self.q, new_q, per_copy, energy, set(failed))
         if found:
             contacts = self.stepper.collision.swept(self.q, np.zeros(len(self.q)), None)
             for m, what in found.items():
@@ -238,9 +243,9 @@ class _Driver:
                 )
         ok = ~np.isin(np.arange(len(layout.members)), list(failed))
         if record:
-            self.recorder.add(layout, ok, self.q, self.v, self.energy, report.frame)
-        _wrap_angles(new_q)
+            self.recorder.add(layout, ok, self.qc, self.vc, self.energy, report.frame)
         self.q, self.v, self.energy = new_q, new_v, energy
+        self.qc, self.vc = new_qc, new_vc
         self.before, self.t, self.steps = self.t, self.t + h, self.steps + 1
         if failed:
             self.failed.update({int(layout.members[m]): what for m, what in failed.items()})
@@ -256,7 +261,7 @@ class _Driver:
         failed = self.guards.overlaps(layout, frame, self.steps, self.t, self.before)
         self.failed.update({int(layout.members[m]): what for m, what in failed.items()})
         ok = ~np.isin(np.arange(len(layout.members)), list(failed))
-        self.recorder.add(layout, ok, self.q, self.v, self.energy, frame)
+        self.recorder.add(layout, ok, self.qc, self.vc, self.energy, frame)
 
     # -- failures --------------------------------------------------------------------------
 
@@ -271,6 +276,7 @@ class _Driver:
         rows = _rows(old, keep, copies)
         self.layout, self.stepper = new, stepper
         self.q, self.v, self.energy = q[rows], v[rows], energy[keep]
+        self._gather()
         self.rebuilds += 1
 
     def _culprits(self, error: Exception, k: int, h: float, memory) -> dict[int, str]:

@@ -110,3 +110,10 @@ PROBE_SECONDS = 2.0  # s of wall time the probe may take at most (a slow scene s
 WARN_SECONDS = 600.0  # s: expected wall time above which the run is announced with a warning
 WARN_BYTES = 2e9  # bytes: expected memory for the recorded steps above which it warns (or half
 # the machine's memory if that is less)
+SWEEP_MAX_RUNS = 10**7  # runs: the largest grid a sweep accepts (its table alone is then ~1 GB)
+SWEEP_CHUNKS = 16  # chunks a sweep's grid is cut into by default: enough to keep a few workers
+# busy and to resume an interrupted sweep without redoing much, few enough that each chunk is a
+# sizeable ensemble (runtime.step.ensemble: the per-step cost is shared by its copies)
+SWEEP_MAX_CHUNK = (
+    256  # runs per chunk at most by default (a chunk's trajectories are held in memory)
+)

@@ -48,7 +48,8 @@ STEP_ERRORS = (ContactSolverError, RuntimeError, FloatingPointError, ValueError)
 @dataclass
 class Ensemble:
     """What an ensemble recorded, as NumPy arrays over N copies and K records (the records of
-    `simulate`: t = k dt every ``record_every`` steps, and the end).
+    `simulate`: t = k dt every ``record_every`` steps, and the end); body_names and fixed:
+    the n bodies of the scene.
 
     t (K,); poses, velocities (N, K, n, 3); energy (N, K) (kinetic + gravitational, J);
     max_penetration (N,) (m, deepest overlap recorded); failed (N,) (the copy's
@@ -60,6 +61,7 @@ class Ensemble:
     method: str
     dt: float
     body_names: list[str]
+    fixed: list[bool]
     variations: dict[str, np.ndarray]
     t: np.ndarray
     poses: np.ndarray
@@ -176,7 +178,8 @@ class _Recorder:
     def ensemble(self, scene, method: str, dt: float, driver: _Driver, wall: float) -> Ensemble:
         failed = np.array([driver.failed.get(c, "") for c in range(len(self.records))], dtype=str)
         return Ensemble(
-            scene.name, method, dt, list(scene.names), driver.columns, self.t, self.poses,
+            scene.name, method, dt, list(scene.names), list(scene.fixed), driver.columns,
+            self.t, self.poses,
             self.velocities, self.energy, np.maximum(0.0, -self.min_gap) + 0.0, failed,
             self.records, wall, driver.evaluations, driver.rebuilds,
         )  # fmt: skip
@@ -270,11 +273,12 @@ class _Driver:
         old, copies = self.layout, self.copies
         new = copies.layout(old.members[keep])
         self.retired += self.stepper.evaluations
-        stepper = copies.stepper(new, *self.options)
-        carry(memory, old, new, stepper, len(copies.own))
-        stepper.evaluations = 0
+        if len(new.members):  # else nothing is stepped any more
+            self.stepper = copies.stepper(new, *self.options)
+            carry(memory, old, new, self.stepper, len(copies.own))
+        self.stepper.evaluations = 0
         rows = _rows(old, keep, copies)
-        self.layout, self.stepper = new, stepper
+        self.layout = new
         self.q, self.v, self.energy = q[rows], v[rows], energy[keep]
         self._gather()
         self.rebuilds += 1

@@ -125,7 +125,7 @@ def read_variations(scene, variations: Mapping) -> Variations:
     parts: dict[tuple[int, str], dict[int | None, np.ndarray]] = {}
     columns: dict[str, np.ndarray] = {}
     for key, raw in variations.items():
-        index, field, component, size = _parse_key(scene, key)
+        index, field, component, size = parse_key(scene, key)
         values = _values(key, raw, 1 if component is not None else size)
         if copies is None:
             copies, first = len(values), key
@@ -163,7 +163,7 @@ def _name(scene, index: int, field: str) -> str:
     return "scene.gravity" if index < 0 else f"{scene.bodies[index].name}.{field}"
 
 
-def _parse_key(scene, key) -> tuple[int, str, int | None, int]:
+def parse_key(scene, key) -> tuple[int, str, int | None, int]:
     """(template body index or -1 for the scene, field, component or None, the field's size)."""
     match = _KEY.fullmatch(key) if isinstance(key, str) else None
     if match is None:

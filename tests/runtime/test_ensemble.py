@@ -312,3 +312,11 @@ def test_records_every_few_steps_and_a_zero_duration():
     still = runtime.simulate_ensemble(scene, {"disc.position": positions}, duration=0.0)
     assert still.t.tolist() == [0.0] and still.records.tolist() == [1, 1]
     np.testing.assert_array_equal(still.poses[:, 0, 1, :2], positions)
+
+
+def test_an_ensemble_whose_copies_all_fail_ends_cleanly():
+    positions = [in_bowl(0.1, 0.905), in_bowl(0.2, 0.906)]
+    scene = runtime.scene_from_dict(BOWL)
+    ensemble = runtime.simulate_ensemble(scene, {"disc.position": positions}, duration=0.01)
+    assert all(m.startswith("step 0 at t = 0 s starts with disc/bowl") for m in ensemble.failed)
+    assert ensemble.records.tolist() == [0, 0] and np.isnan(ensemble.poses).all()

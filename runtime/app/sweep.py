@@ -121,7 +121,7 @@ def _client(args: argparse.Namespace, warm_up):
     with dask.config.set({"distributed.worker.multiprocessing-method": method}):
         cluster = LocalCluster(
             n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-            dashboard_address=None, silence_logs=logging.ERROR,
+            dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR,
         )  # fmt: skip
     client = Client(cluster)
     client._sweep_cluster = cluster  # closed with the client (see _close)

@@ -1,6 +1,6 @@
 # make        : set up .venv, regenerate equations, code and docs, run a demo scene
 # make test   : set up .venv and run the tests (incl. the stale check and the PDF build)
-# make bench  : kernel, contact-finding and step benchmarks (bench/README.md); make report : work-precision report
+# make bench  : kernel, contact-finding, step and ensemble benchmarks (bench/README.md); make report : work-precision report
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
@@ -64,6 +64,7 @@ bench: setup
 	$(PY) -m bench.kernels
 	$(PY) -m bench.collide
 	$(PY) -m bench.steps
+	$(PY) -m bench.ensemble
 
 report: setup
 	$(PY) -m pip install --quiet -e '.[dev,peers]'

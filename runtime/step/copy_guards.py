@@ -154,24 +154,20 @@ class CopyGuards:
     def _tunnelled(self, qc, new_qc, failed: dict, skip: set) -> None:
         """A moving centre of mass whose straight path crosses an edge of a fixed body of its
         copy: checked in each fixed body's own frame, so one FixedEdges serves every copy."""
-        moving = self.moving
+        moving, k = self.moving, len(self.moving)
         for f, edges in self.edges:
             pose = qc[:, f]
             p0 = _local(qc[:, moving, :2], pose).reshape(-1, 2)
             p1 = _local(new_qc[:, moving, :2], pose).reshape(-1, 2)
-            done = np.array(sorted(set(failed) | skip), dtype=np.int64)
-            for m in done.tolist():  # copies already failed: not moved
-                p1[m * len(moving) : (m + 1) * len(moving)] = p0[
-                    m * len(moving) : (m + 1) * len(moving)
-                ]
+            for m in set(failed) | skip:  # copies already failed: as if they had not moved
+                p1[m * k : (m + 1) * k] = p0[m * k : (m + 1) * k]
             while (hit := edges.crossing(p0, p1)) is not None:
-                m, j = divmod(hit[0], len(moving))
+                m, j = divmod(hit[0], k)
                 failed[m] = (
                     f"moved the centre of mass of {self.names[moving[j]]} through "
                     f"{self.names[f]} (it tunnelled): {_TOO_LARGE}"
                 )
-                rows = slice(m * len(moving), (m + 1) * len(moving))
-                p1[rows] = p0[rows]
+                p1[m * k : (m + 1) * k] = p0[m * k : (m + 1) * k]
 
     def _passed_through(self, layout: Layout, q, new_q, failed: dict, skip: set) -> None:
         """Two bodies of one copy whose centres came inside each other's inscribed circle

@@ -178,11 +178,23 @@ class _Recorder:
     def ensemble(self, scene, method: str, dt: float, driver: _Driver, wall: float) -> Ensemble:
         failed = np.array([driver.failed.get(c, "") for c in range(len(self.records))], dtype=str)
         return Ensemble(
-            scene.name, method, dt, list(scene.names), list(scene.fixed), driver.columns,
-            self.t, self.poses,
-            self.velocities, self.energy, np.maximum(0.0, -self.min_gap) + 0.0, failed,
-            self.records, wall, driver.evaluations, driver.rebuilds,
-        )  # fmt: skip
+            scene_name=scene.name,
+            method=method,
+            dt=dt,
+            body_names=list(scene.names),
+            fixed=list(scene.fixed),
+            variations=driver.columns,
+            t=self.t,
+            poses=self.poses,
+            velocities=self.velocities,
+            energy=self.energy,
+            max_penetration=np.maximum(0.0, -self.min_gap) + 0.0,  # + 0.0: no -0.0
+            failed=failed,
+            records=self.records,
+            wall_time=wall,
+            rhs_evaluations=driver.evaluations,
+            rebuilds=driver.rebuilds,
+        )
 
 
 class _Driver:

@@ -8,15 +8,18 @@ from __future__ import annotations
 import copy
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import runtime
+from runtime.collide import sweep
 from runtime.solve.lcp import ContactSolverError
 from runtime.step.stepper import Stepper
 
 TOL = 1e-12
+SCENES = Path(__file__).resolve().parents[2] / "scenes"
 
 FLOOR = {"name": "floor", "fixed": True, "shape": {"type": "wall", "start": [-3.0, 0.0], "end": [3.0, 0.0]}}  # fmt: skip
 MIXED = {
@@ -251,6 +254,33 @@ def test_a_step_that_raises_drops_only_the_copies_that_raise_alone(monkeypatch):
         assert_same(ensemble, c, run)
     assert [bool(m) for m in ensemble.failed] == [a >= 0.5 for a in angles]
     assert len(set(ensemble.records[[1, 4, 6]].tolist())) == 3  # three different steps
+
+
+def test_a_copy_that_tunnels_through_its_own_wall_is_stopped_alone(monkeypatch):
+    """wall_shot with the swept contact search off (as test_guards.py does): the disc jumps
+    over the 1 cm wall in one step where the wall (each copy's own: its position and angle
+    vary) is in its path, and the copies whose wall is beyond reach run on."""
+    monkeypatch.setattr(sweep, "margins", lambda v, h, radii, moving, g: np.zeros(len(radii)))
+    monkeypatch.setattr(sweep, "outran", lambda *args: False)
+    scene = runtime.load_scene(SCENES / "wall_shot.toml")
+    walls = [[0.0, 0.0], [5.0, 0.0], [0.0, 0.3], [-0.5, 0.0]]
+    angles = [0.0, 0.0, 0.3, -0.2]
+    options = {"duration": 0.05, "dt": 1.0 / 60.0}
+    values = {"wall.position": walls, "wall.angle": angles}
+    ensemble = runtime.simulate_ensemble(scene, values, **options)
+    for c in range(len(walls)):
+        alone = runtime.load_scene(SCENES / "wall_shot.toml")
+        wall = alone.body("wall")
+        wall.position, wall.angle = tuple(walls[c]), angles[c]
+        try:
+            run, message = runtime.simulate(alone, **options), ""
+        except runtime.SimulationError as exc:
+            run, message = exc.run, str(exc)
+        assert ensemble.failed[c] == message
+        assert_same(ensemble, c, run)
+    tunnelled = [m.startswith("step 0 at t = 0 s moved the centre of mass of disc through wall")
+                 for m in ensemble.failed]  # fmt: skip
+    assert tunnelled == [True, False, True, True]
 
 
 @pytest.mark.parametrize(

@@ -12,6 +12,9 @@ shared by all copies (group -1: they touch every group); then each member copy's
 (the moving ones and the varied fixed ones) in the template's order, in the group of the
 copy's number. A :class:`Layout` maps both ways, and :func:`carry` moves the stepper's memory
 (resting contacts, warm-start guesses) to the layout of fewer copies when some are dropped.
+Within a copy the bodies keep the template's order, so each pair is computed as in the copy's
+own scene (from its higher-index body); only where the template lists a shared fixed body after
+a moving one does that order flip, which can change the last bits.
 """
 
 from __future__ import annotations
@@ -101,7 +104,7 @@ class Copies:
         scene (the margins of the swept contact search and the hold gap of resting contacts):
         with varied gravity it takes the largest, so the margins still bound every copy's
         motion (the hold gap then differs from a copy's own run only where g dt^2 is above
-        ~1e-4 m: settings.DRIFT)."""
+        2e-4 m: settings.DRIFT, HOLD)."""
         stepper = Stepper(layout.scene, method, stabilisation, resting_speed)
         if self.varied_gravity:
             g = self.gravity[layout.members]

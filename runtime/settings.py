@@ -94,6 +94,10 @@ FAST_PAIR = 0.25  # relative to the smaller body's half width: a pair that moves
 ANGLE_WRAP = 1e3  # rad: angles beyond this are wrapped to (-pi, pi] between steps, so the
 # integrator keeps 1e-13 rad of resolution however long a body spins
 
+ENSEMBLE_GC_STEPS = 100  # steps: an ensemble collects Python's young garbage generations this
+# often, its automatic collection being off (full collections of 10,000 copies' per-contact
+# objects took half of each step; runtime.step.ensemble)
+
 # -- guards ------------------------------------------------------------------------------------
 
 PENETRATION_LIMIT = 1e-2  # relative to the smaller body's bounding radius: an overlap deeper

@@ -204,7 +204,7 @@ def rows(index: int, start: int, grid, ensemble) -> dict[str, list]:
     }
     for j, key in enumerate(grid.keys):
         columns[key] = grid.values[start : start + n, j].tolist()
-    moving = [i for i, name in enumerate(ensemble.body_names) if not ensemble.fixed[i]]
+    moving = [i for i, fixed in enumerate(ensemble.fixed) if not fixed]
     for i in moving:
         state = np.concatenate(
             [ensemble.poses[pick, last, i], ensemble.velocities[pick, last, i]], axis=1

@@ -151,9 +151,9 @@ class ContactFinder:
         """All contacts at ``poses`` ((n, 3) of ``(x, y, th)``) whose gap is at most the pair's
         tolerance, ``tolerance + margins[i] + margins[j]`` (``margins``: (n,) per-body widening,
         e.g. how far each body can move in a step; default none), penetrating ones included,
-        between bodies of one collision group (or of group -1) both ``allowed`` (an (n,) bool mask; default all: the engine's islands
-        ask for the contacts among their bodies and the fixed ones). Ordered by pair (lower
-        index, higher index), then by feature."""
+        between bodies of one collision group (or of group -1) both ``allowed`` (an (n,) bool
+        mask; default all: the engine's islands ask for the contacts among their bodies and the
+        fixed ones). Ordered by pair (lower index, higher index), then by feature."""
         p = poses
         if not (type(p) is np.ndarray and p.dtype == np.float64 and p.shape == (self.n, 3)):
             p = self._poses(poses)

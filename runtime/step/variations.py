@@ -131,8 +131,8 @@ def read_variations(scene, variations: Mapping) -> Variations:
             copies, first = len(values), key
         elif len(values) != copies:
             raise VariationError(
-                f"variations[{key!r}] has {len(values)} copies, variations[{first!r}] {copies}: "
-                "every array needs the same first axis"
+                f"variations[{key!r}] has {len(values)} values, variations[{first!r}] {copies}: "
+                "every array needs one value per copy along its first axis"
             )
         _check_values(key, field, values)
         given = parts.setdefault((index, field), {})

@@ -296,7 +296,7 @@ def test_a_copy_that_tunnels_through_its_own_wall_is_stopped_alone(monkeypatch):
         ({"disc.position": [1.0, 2.0]}, "variations['disc.position'] must have shape (N, 2)"),
         ({"disc.mass": []}, "variations['disc.mass'] is empty"),
         ({"disc.mass": ["heavy"]}, "variations['disc.mass'] must be an array of numbers"),
-        ({"disc.mass": [1.0, 2.0], "disc.angle": [0.0]}, "variations['disc.angle'] has 1 copies, variations['disc.mass'] 2"),
+        ({"disc.mass": [1.0, 2.0], "disc.angle": [0.0]}, "variations['disc.angle'] has 1 values, variations['disc.mass'] 2"),
         ({"disc.mass": [1.0, -2.0]}, "variations['disc.mass'][1] = -2.0: must be a mass >= 1e-50"),
         ({"disc.restitution": [0.5, 1.5]}, "variations['disc.restitution'][1] = 1.5: must be between 0 and 1"),
         ({"disc.angle": [float("nan")]}, "variations['disc.angle'][0] = nan: must be finite"),

@@ -1,6 +1,6 @@
 # make        : set up .venv, regenerate equations, code and docs, run a demo scene
 # make test   : set up .venv and run the tests (incl. the stale check and the PDF build)
-# make bench  : kernel, contact-finding, contact-force, step and target benchmarks (bench/README.md)
+# make bench  : kernel, contact-finding, contact-force, step, target and ensemble benchmarks (bench/README.md)
 # make report : work-precision report against pymunk and Box2D (docs/report/)
 # make mutate : mutation testing (bench/mutants.py; ~20 min, not part of make test)
 VENV := .venv
@@ -68,6 +68,7 @@ bench: setup
 	$(PY) -m bench.lcp
 	$(PY) -m bench.steps
 	$(PY) -m bench.targets
+	$(PY) -m bench.ensemble
 
 report: setup
 	$(PY) -m pip install --quiet -e '.[dev,peers]'

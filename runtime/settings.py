@@ -143,6 +143,10 @@ FAST_PAIR = 0.25  # relative to the smaller body's half width: a pair that moves
 ANGLE_WRAP = 1e3  # rad: angles beyond this are wrapped to (-pi, pi] between steps, so the
 # integrator keeps 1e-13 rad of resolution however long a body spins
 
+ENSEMBLE_GC_STEPS = 100  # steps: an ensemble collects Python's young garbage generations this
+# often, its automatic collection being off (full collections of 10,000 copies' per-contact
+# objects took half of each step; runtime.step.ensemble)
+
 # -- guards ------------------------------------------------------------------------------------
 
 PENETRATION_LIMIT = 1e-2  # relative to the smaller body's bounding radius: an overlap deeper
@@ -159,3 +163,10 @@ PROBE_SECONDS = 2.0  # s of wall time the probe may take at most (a slow scene s
 WARN_SECONDS = 600.0  # s: expected wall time above which the run is announced with a warning
 WARN_BYTES = 2e9  # bytes: expected memory for the recorded steps above which it warns (or half
 # the machine's memory if that is less)
+SWEEP_MAX_RUNS = 10**7  # runs: the largest grid a sweep accepts (its table alone is then ~1 GB)
+SWEEP_CHUNKS = 16  # chunks a sweep's grid is cut into by default: enough to keep a few workers
+# busy and to resume an interrupted sweep without redoing much, few enough that each chunk is a
+# sizeable ensemble (runtime.step.ensemble: the per-step cost is shared by its copies)
+SWEEP_MAX_CHUNK = (
+    256  # runs per chunk at most by default (a chunk's trajectories are held in memory)
+)

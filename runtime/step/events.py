@@ -103,7 +103,13 @@ def _first_root(c: np.ndarray, lo: float, hi: float) -> float:
 def bracket_one(
     k: int, g0: float, v0: float, g1: float, v1: float, t0: float, span: float, touching: bool
 ) -> Bracket | None:
-    """The bracket of contact k over [t0, t0 + span] from (d, d') at both ends, or None."""
+    """The bracket of contact k over [t0, t0 + span] from (d, d') at both ends, or None.
+    A rate that is not finite (d' of two coincident circle centres: the normal, and so d', is
+    undefined there) is taken as the secant's, so the interpolant stays finite."""
+    if not (math.isfinite(v0) and math.isfinite(v1)):
+        secant = (g1 - g0) / span
+        v0 = v0 if math.isfinite(v0) else secant
+        v1 = v1 if math.isfinite(v1) else secant
     c = hermite(g0, v0, g1, v1, span)
     if touching:
         if g1 >= 0:

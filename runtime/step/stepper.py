@@ -95,6 +95,7 @@ class Stepper:
         self.evaluator = RowEvaluator(scene.contact_cases(), self.fixed)
         self.forces = ContactForces(scene, stabilisation)
         self.with_gaps = stabilisation is not None
+        self.recovery = 0.0 if stabilisation is None else 0.5 * stabilisation.damping
         self.resting_speed = resting_speed
         self.touch = min(settings.TOUCH, scene.contact_tolerance)
         self.gravity = float(np.hypot(*scene.gravity))
@@ -243,7 +244,9 @@ class Stepper:
                 if active is not None and np.any((moved + margin > reach[1])[active]):
                     raise _Merge
             frame = self.frame(q, v, remaining, limits, active, margin)
-            frame, resting = settle(frame, partial(self.solve, q), self.bodies, limits.creep_speed)
+            frame, resting = settle(
+                frame, partial(self.solve, q), self.bodies, limits.creep_speed, self.recovery
+            )
             report.impact_loss += frame.impact_loss
             if report.frame is None:
                 self._record_first(report, q, frame, resting)
@@ -325,7 +328,7 @@ class Stepper:
         shows."""
         limits = self.limits(h)
         frame = self.frame(q, v, 0.0, limits)
-        return settle(frame, partial(self.solve, q), self.bodies, limits.creep_speed)
+        return settle(frame, partial(self.solve, q), self.bodies, limits.creep_speed, self.recovery)
 
 
 class _IslandTrajectories:

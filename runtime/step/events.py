@@ -35,7 +35,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from runtime import settings
+from runtime.collide import sweep
+from runtime.collide.broadphase import candidate_pairs
 from runtime.step.classify import LIFTING, SEPARATING
+
+
+class IslandsMeet(Exception):
+    """Two islands' bodies that no contact joined at the step's start meet within it: the step
+    is done again with every body in one island (runtime.step.stepper)."""
+
 
 CROSS = "cross"  # open at the start, penetrating at the end
 DIP = "dip"  # open at both ends, below zero in between
@@ -263,9 +271,10 @@ class EventSearch:
         one. ``start``: the poses at the trial's start; ``trial_end``: the state at h of the
         whole trial; ``island_of_body``: island label per body (-1 for fixed bodies);
         ``trajectory(island)``: the island's own trajectory (t -> state) for locating."""
+        meets = self._unwatched_meetings(frame, start, trial_end[0], h, island_of_body, trajectory)
         watched = frame.monitored
         if watched.size == 0:
-            return {}
+            return meets
         contacts = frame.contacts.take(watched)
         g1, v1 = self.evaluator.gap_and_rate(contacts, *trial_end)
         g0, v0 = frame.rows.gap[watched], frame.rows.gap_velocity[watched]
@@ -278,7 +287,8 @@ class EventSearch:
                 gaps[k] = self._gap_function(contacts, k, trajectory(int(island[k])))
             return gaps[k]
 
-        fast, sampled = self._fast_pairs(contacts, touching, start, trial_end[0], h, gap_of)
+        fast, sampled_counts = self._fast_pairs(contacts, touching, start, trial_end[0], h, gap_of)
+        sampled = sampled_counts > 0
         found = [b for b in brackets(g0, v0, g1, v1, h, touching) if b.kind != DIP]
         found = [b for b in found if not sampled[b.index]] + fast
         for k in np.flatnonzero(~touching & ~sampled & (g1 > 0) & (v0 < 0) & (v1 > 0)).tolist():
@@ -316,17 +326,63 @@ class EventSearch:
                 best[g] = t
             else:
                 unconfirmed.setdefault(g, set()).add(_pair(contacts, k))
-        closing = g1 < g0  # may meet at another feature on the way
+        closing = (g1 < g0) | sampled  # may meet at another feature on the way (or turn to it)
         for k in np.flatnonzero(closing):
             i, j = int(contacts.body1[k]), int(contacts.body2[k])
             if self.switches[i] or self.switches[j]:
                 unconfirmed.setdefault(int(island[k]), set()).add(_pair(contacts, k))
         keys = set(map(tuple, contacts.keys().tolist()))
+        known = set(frame.keys)
+        counts = {_pair(contacts, k): int(sampled_counts[k]) for k in np.flatnonzero(sampled)}
         for g, pairs in unconfirmed.items():
-            later = self._new_feature(pairs, keys, trajectory(g), best.get(g, h))
+            later = self._new_feature(pairs, keys, trajectory(g), best.get(g, h), known, counts)
             if later is not None:
                 best[g] = later
+        for g, t in meets.items():
+            best[g] = min(best.get(g, t), t)
         return best
+
+    def _unwatched_meetings(
+        self, frame, q0: np.ndarray, q1: np.ndarray, h: float, island_of_body, trajectory
+    ) -> dict[int, float]:
+        """{island: first touch} of the pairs with a fast body that no watched contact of the
+        frame joins. A body turning fast can bring a corner onto a body whose nearest features
+        at the start make no contact (corner against corner: no vertex faces an edge), or swing
+        its far end round onto the body it rests on, so nothing of the pair is watched. Such a pair's first touch is located with the contact finder
+        (:meth:`_first_touch`); a pair of two islands that meet raises :class:`IslandsMeet`
+        (their step must be taken as one island)."""
+        fast = sweep.displacement(q0, q1, self.radii) > settings.FAST_PAIR * self.half_width
+        if not fast.any():
+            return {}
+        active = island_of_body >= 0
+        usable = active | self.collider.fixed
+        first, second = candidate_pairs(q0[:, :2], self.radii + frame.margin, ~active)
+        keep = usable[first] & usable[second] & (fast[first] | fast[second])
+        first, second = first[keep], second[keep]
+        counts = self._samples(first, second, q0, q1)
+        c = frame.contacts.take(frame.monitored)  # their pairs are sampled as watched ones
+        joined = set(
+            zip(
+                np.minimum(c.body1, c.body2).tolist(),
+                np.maximum(c.body1, c.body2).tolist(),
+                strict=True,
+            )
+        )
+        known = set(frame.keys)
+        out: dict[int, float] = {}
+        for i, j, samples in zip(first.tolist(), second.tolist(), counts.tolist(), strict=True):
+            if (i, j) in joined or samples == 0:
+                continue
+            gi, gj = int(island_of_body[i]), int(island_of_body[j])
+            g = gi if gi >= 0 else gj
+            traj = trajectory(g)
+            t = self._first_touch(i, j, traj, h, known, samples)
+            if t is None:
+                continue
+            if gi >= 0 and gj >= 0 and gi != gj and trajectory(gj) is not traj:
+                raise IslandsMeet
+            out[g] = min(out.get(g, t), t)
+        return out
 
     @staticmethod
     def _islands(contacts, island_of_body: np.ndarray) -> np.ndarray:
@@ -338,19 +394,13 @@ class EventSearch:
     def _fast_pairs(self, contacts, touching, q0, q1, h, gap_of) -> tuple[list, np.ndarray]:
         """Brackets of the fast pairs (see the module docstring), found by sampling their
         gaps (``gap_of(k)``: contact k's along its island's trajectory) at instants closer than
-        a fraction of the smaller half width of relative travel; and which contacts were
-        sampled (a bool mask): their brackets replace those from the step's two ends."""
-        b1, b2 = contacts.body1, contacts.body2
-        moved = (q1[b1, :2] - q0[b1, :2]) - (q1[b2, :2] - q0[b2, :2])
-        travel = np.hypot(moved[:, 0], moved[:, 1])
-        travel += np.abs(q1[b1, 2] - q0[b1, 2]) * self.radii[b1]
-        travel += np.abs(q1[b2, 2] - q0[b2, 2]) * self.radii[b2]
-        size = np.minimum(self.half_width[b1], self.half_width[b2])
-        size = np.where(np.isfinite(size), size, np.maximum(self.radii[b1], self.radii[b2]))
+        a fraction of the smaller half width of relative travel; and each contact's number of
+        samples (0: not sampled): the sampled ones' brackets replace those of the step's ends."""
+        counts = self._samples(contacts.body1, contacts.body2, q0, q1)
         out = []
-        sampled = travel > settings.FAST_PAIR * size
+        sampled = counts > 0
         for k in np.flatnonzero(sampled).tolist():
-            samples = int(min(max(math.ceil(travel[k] / (settings.FAST_PAIR * size[k])), 2), 4096))
+            samples = int(counts[k])
             gap = gap_of(k)
             t_prev, (g_prev, v_prev) = 0.0, gap(0.0)
             for s in range(1, samples + 1):
@@ -366,7 +416,20 @@ class EventSearch:
                     out.append(b)
                     break
                 t_prev, g_prev, v_prev = t, g_now, v_now
-        return out, sampled
+        return out, counts
+
+    def _samples(self, b1: np.ndarray, b2: np.ndarray, q0: np.ndarray, q1: np.ndarray):
+        """Samples over the step for each pair (b1, b2): 0 for a slow pair, else enough that
+        the pair moves at most settings.FAST_PAIR of the smaller half width between two (at
+        least 2, at most 4096)."""
+        moved = (q1[b1, :2] - q0[b1, :2]) - (q1[b2, :2] - q0[b2, :2])
+        travel = np.hypot(moved[:, 0], moved[:, 1])
+        travel += np.abs(q1[b1, 2] - q0[b1, 2]) * self.radii[b1]
+        travel += np.abs(q1[b2, 2] - q0[b2, 2]) * self.radii[b2]
+        size = np.minimum(self.half_width[b1], self.half_width[b2])
+        size = np.where(np.isfinite(size), size, np.maximum(self.radii[b1], self.radii[b2]))
+        steps = np.clip(np.ceil(travel / (settings.FAST_PAIR * size)), 2, 4096)
+        return np.where(travel > settings.FAST_PAIR * size, steps, 0).astype(int)
 
     def _gap_function(self, contacts, k: int, traj) -> Callable[[float], tuple[float, float]]:
         """t -> (d, d') of watched contact k along the island's trajectory; an oval's contact
@@ -387,22 +450,30 @@ class EventSearch:
         found = self.collider.pair(i, j, poses, self.touch)
         return any(key not in resting for key in map(tuple, found.keys().tolist()))
 
-    def _new_feature(self, pairs: set, watched_keys: set, traj, until: float) -> float | None:
+    def _new_feature(
+        self, pairs: set, watched_keys: set, traj, until: float, known: set, samples: dict
+    ) -> float | None:
         """Earliest impact, before ``until``, of a feature that a pair reaches only during the
         step: a pair closing in at one feature can meet at another (an edge's contact sliding
         onto its corner, a corner turning into an arc). A feature found penetrating at
         ``until``, not watched at the start and clear of the other body (by more than the touch
-        gap) then, is located like any other."""
+        gap) then, is located like any other. One that was behind its edge's line at the start
+        (beyond the edge's end: a turning body can bring a corner in across another feature)
+        is not a crossing of its kernel's gap; then, and for a fast pair (``samples``: the
+        pairs' sample counts), the pair's first touch at a feature not ``known`` (the start's
+        contacts) is found with the contact finder (:meth:`_first_touch`)."""
         poses = traj.at(until)[0]
         earliest = None
         for i, j in sorted(pairs):
             found = self.collider.pair(i, j, poses, 0.0)
+            located, unexplained = False, False
             for k, key in enumerate(map(tuple, found.keys().tolist())):
                 if key in watched_keys or found.gap[k] >= -self.touch:
                     continue
                 gap = self._gap_function(found, k, traj)
                 start, end = gap(0.0)[0], gap(until)[0]
                 if not (start > self.touch and end <= 0):
+                    unexplained |= key not in known
                     continue
                 t, d = locate(
                     gap,
@@ -412,9 +483,53 @@ class EventSearch:
                     gap_tol=settings.TOUCH_LOCATE * self.touch,
                     time_tol=settings.TIME_EPS * np.finfo(float).eps * until,
                 )
-                if d <= self.touch and (earliest is None or t < earliest):
-                    earliest = t
+                if d <= self.touch:
+                    located = True
+                    earliest = t if earliest is None else min(earliest, t)
+            if (unexplained or samples.get((i, j), 0)) and not located:
+                t = self._first_touch(i, j, traj, until, known, samples.get((i, j), 1))
+                if t is not None:
+                    earliest = t if earliest is None else min(earliest, t)
         return earliest
+
+    def _first_touch(
+        self, i: int, j: int, traj, until: float, known: set, samples: int = 1
+    ) -> float | None:
+        """The first instant in (0, until] at which bodies i and j touch at a contact not
+        ``known``: the contact finder asked at ``samples`` instants (a deep overlap is not a
+        plausible contact, so a fast pair must be caught while shallow), then bisection on its
+        smallest gap of such contacts (the distance between the bodies, whichever features
+        are nearest), to the gap an impact location reaches or to the time resolution; None
+        if they do not touch at any sample."""
+
+        def depth(t: float) -> float:
+            found = self.collider.pair(i, j, traj.at(t)[0], self.touch)
+            keys = map(tuple, found.keys().tolist())
+            gaps = [g for key, g in zip(keys, found.gap.tolist(), strict=True) if key not in known]
+            return min(gaps, default=math.inf)
+
+        if depth(0.0) <= 0:
+            return None
+        lo = 0.0
+        for s in range(1, samples + 1):
+            hi = until * s / samples
+            d_hi = depth(hi)
+            if d_hi <= 0:
+                break
+            lo = hi
+        else:
+            return None
+        time_tol = settings.TIME_EPS * np.finfo(float).eps * until
+        for _ in range(settings.LOCATE_ITERATIONS):
+            if d_hi >= -settings.TOUCH_LOCATE * self.touch or hi - lo <= time_tol:
+                break
+            mid = 0.5 * (lo + hi)
+            d = depth(mid)
+            if d > 0:
+                lo = mid
+            else:
+                hi, d_hi = mid, d
+        return hi
 
 
 def _pair(contacts, k: int) -> tuple[int, int]:

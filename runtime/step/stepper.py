@@ -43,7 +43,7 @@ from runtime.solve.rows import RowEvaluator
 from runtime.step import compiled_stages
 from runtime.step.classify import RESTING, Bodies, Frame, Limits, make_frame
 from runtime.step.collision import Collision
-from runtime.step.events import EventSearch
+from runtime.step.events import EventSearch, IslandsMeet
 from runtime.step.integrators import FIXED_STEP, Trajectory
 from runtime.step.resting import settle
 
@@ -226,7 +226,7 @@ class Stepper:
         report = StepReport()
         try:
             q1, v1 = self._advance(q, v, h, limits, report, split=True)
-        except _Merge:
+        except (_Merge, IslandsMeet):
             self.held, report = held, StepReport()
             q1, v1 = self._advance(q, v, h, limits, report, split=False)
         return q1, v1, report

@@ -35,15 +35,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from runtime import settings
-from runtime.collide import sweep
-from runtime.collide.broadphase import candidate_pairs
+from runtime.step import pair_scan
 from runtime.step.classify import LIFTING, SEPARATING
-
-
-class IslandsMeet(Exception):
-    """Two islands' bodies that no contact joined at the step's start meet within it: the step
-    is done again with every body in one island (runtime.step.stepper)."""
-
 
 CROSS = "cross"  # open at the start, penetrating at the end
 DIP = "dip"  # open at both ends, below zero in between
@@ -271,7 +264,9 @@ class EventSearch:
         one. ``start``: the poses at the trial's start; ``trial_end``: the state at h of the
         whole trial; ``island_of_body``: island label per body (-1 for fixed bodies);
         ``trajectory(island)``: the island's own trajectory (t -> state) for locating."""
-        meets = self._unwatched_meetings(frame, start, trial_end[0], h, island_of_body, trajectory)
+        meets = pair_scan.unwatched_meetings(
+            self, frame, start, trial_end[0], h, island_of_body, trajectory
+        )
         watched = frame.monitored
         if watched.size == 0:
             return meets
@@ -342,48 +337,6 @@ class EventSearch:
             best[g] = min(best.get(g, t), t)
         return best
 
-    def _unwatched_meetings(
-        self, frame, q0: np.ndarray, q1: np.ndarray, h: float, island_of_body, trajectory
-    ) -> dict[int, float]:
-        """{island: first touch} of the pairs with a fast body that no watched contact of the
-        frame joins. A body turning fast can bring a corner onto a body whose nearest features
-        at the start make no contact (corner against corner: no vertex faces an edge), or swing
-        its far end round onto the body it rests on, so nothing of the pair is watched. Such a pair's first touch is located with the contact finder
-        (:meth:`_first_touch`); a pair of two islands that meet raises :class:`IslandsMeet`
-        (their step must be taken as one island)."""
-        fast = sweep.displacement(q0, q1, self.radii) > settings.FAST_PAIR * self.half_width
-        if not fast.any():
-            return {}
-        active = island_of_body >= 0
-        usable = active | self.collider.fixed
-        first, second = candidate_pairs(q0[:, :2], self.radii + frame.margin, ~active)
-        keep = usable[first] & usable[second] & (fast[first] | fast[second])
-        first, second = first[keep], second[keep]
-        counts = self._samples(first, second, q0, q1)
-        c = frame.contacts.take(frame.monitored)  # their pairs are sampled as watched ones
-        joined = set(
-            zip(
-                np.minimum(c.body1, c.body2).tolist(),
-                np.maximum(c.body1, c.body2).tolist(),
-                strict=True,
-            )
-        )
-        known = set(frame.keys)
-        out: dict[int, float] = {}
-        for i, j, samples in zip(first.tolist(), second.tolist(), counts.tolist(), strict=True):
-            if (i, j) in joined or samples == 0:
-                continue
-            gi, gj = int(island_of_body[i]), int(island_of_body[j])
-            g = gi if gi >= 0 else gj
-            traj = trajectory(g)
-            t = self._first_touch(i, j, traj, h, known, samples)
-            if t is None:
-                continue
-            if gi >= 0 and gj >= 0 and gi != gj and trajectory(gj) is not traj:
-                raise IslandsMeet
-            out[g] = min(out.get(g, t), t)
-        return out
-
     @staticmethod
     def _islands(contacts, island_of_body: np.ndarray) -> np.ndarray:
         """Island of each watched contact: that of its moving body (body 1 unless fixed)."""
@@ -396,7 +349,7 @@ class EventSearch:
         gaps (``gap_of(k)``: contact k's along its island's trajectory) at instants closer than
         a fraction of the smaller half width of relative travel; and each contact's number of
         samples (0: not sampled): the sampled ones' brackets replace those of the step's ends."""
-        counts = self._samples(contacts.body1, contacts.body2, q0, q1)
+        counts = pair_scan.samples(self, contacts.body1, contacts.body2, q0, q1)
         out = []
         sampled = counts > 0
         for k in np.flatnonzero(sampled).tolist():
@@ -417,19 +370,6 @@ class EventSearch:
                     break
                 t_prev, g_prev, v_prev = t, g_now, v_now
         return out, counts
-
-    def _samples(self, b1: np.ndarray, b2: np.ndarray, q0: np.ndarray, q1: np.ndarray):
-        """Samples over the step for each pair (b1, b2): 0 for a slow pair, else enough that
-        the pair moves at most settings.FAST_PAIR of the smaller half width between two (at
-        least 2, at most 4096)."""
-        moved = (q1[b1, :2] - q0[b1, :2]) - (q1[b2, :2] - q0[b2, :2])
-        travel = np.hypot(moved[:, 0], moved[:, 1])
-        travel += np.abs(q1[b1, 2] - q0[b1, 2]) * self.radii[b1]
-        travel += np.abs(q1[b2, 2] - q0[b2, 2]) * self.radii[b2]
-        size = np.minimum(self.half_width[b1], self.half_width[b2])
-        size = np.where(np.isfinite(size), size, np.maximum(self.radii[b1], self.radii[b2]))
-        steps = np.clip(np.ceil(travel / (settings.FAST_PAIR * size)), 2, 4096)
-        return np.where(travel > settings.FAST_PAIR * size, steps, 0).astype(int)
 
     def _gap_function(self, contacts, k: int, traj) -> Callable[[float], tuple[float, float]]:
         """t -> (d, d') of watched contact k along the island's trajectory; an oval's contact
@@ -461,7 +401,7 @@ class EventSearch:
         (beyond the edge's end: a turning body can bring a corner in across another feature)
         is not a crossing of its kernel's gap; then, and for a fast pair (``samples``: the
         pairs' sample counts), the pair's first touch at a feature not ``known`` (the start's
-        contacts) is found with the contact finder (:meth:`_first_touch`)."""
+        contacts) is found with the contact finder (runtime.step.pair_scan)."""
         poses = traj.at(until)[0]
         earliest = None
         for i, j in sorted(pairs):
@@ -487,49 +427,10 @@ class EventSearch:
                     located = True
                     earliest = t if earliest is None else min(earliest, t)
             if (unexplained or samples.get((i, j), 0)) and not located:
-                t = self._first_touch(i, j, traj, until, known, samples.get((i, j), 1))
+                t = pair_scan.first_touch(self, i, j, traj, until, known, samples.get((i, j), 1))
                 if t is not None:
                     earliest = t if earliest is None else min(earliest, t)
         return earliest
-
-    def _first_touch(
-        self, i: int, j: int, traj, until: float, known: set, samples: int = 1
-    ) -> float | None:
-        """The first instant in (0, until] at which bodies i and j touch at a contact not
-        ``known``: the contact finder asked at ``samples`` instants (a deep overlap is not a
-        plausible contact, so a fast pair must be caught while shallow), then bisection on its
-        smallest gap of such contacts (the distance between the bodies, whichever features
-        are nearest), to the gap an impact location reaches or to the time resolution; None
-        if they do not touch at any sample."""
-
-        def depth(t: float) -> float:
-            found = self.collider.pair(i, j, traj.at(t)[0], self.touch)
-            keys = map(tuple, found.keys().tolist())
-            gaps = [g for key, g in zip(keys, found.gap.tolist(), strict=True) if key not in known]
-            return min(gaps, default=math.inf)
-
-        if depth(0.0) <= 0:
-            return None
-        lo = 0.0
-        for s in range(1, samples + 1):
-            hi = until * s / samples
-            d_hi = depth(hi)
-            if d_hi <= 0:
-                break
-            lo = hi
-        else:
-            return None
-        time_tol = settings.TIME_EPS * np.finfo(float).eps * until
-        for _ in range(settings.LOCATE_ITERATIONS):
-            if d_hi >= -settings.TOUCH_LOCATE * self.touch or hi - lo <= time_tol:
-                break
-            mid = 0.5 * (lo + hi)
-            d = depth(mid)
-            if d > 0:
-                lo = mid
-            else:
-                hi, d_hi = mid, d
-        return hi
 
 
 def _pair(contacts, k: int) -> tuple[int, int]:

@@ -43,8 +43,9 @@ from runtime.solve.rows import RowEvaluator
 from runtime.step import compiled_stages
 from runtime.step.classify import RESTING, Bodies, Frame, Limits, make_frame
 from runtime.step.collision import Collision
-from runtime.step.events import EventSearch, IslandsMeet
+from runtime.step.events import EventSearch
 from runtime.step.integrators import FIXED_STEP, Trajectory
+from runtime.step.pair_scan import IslandsMeet
 from runtime.step.resting import settle
 
 

@@ -15,7 +15,7 @@ import pytest
 
 import runtime
 from runtime.collide import sweep
-from runtime.step.events import EventSearch
+from runtime.step import pair_scan
 from runtime.step.guards import FixedEdges
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
@@ -75,7 +75,7 @@ def test_a_disc_made_to_pass_through_a_wall_is_stopped(monkeypatch):
     one step; the guard names it and keeps the state before."""
     monkeypatch.setattr(sweep, "margins", lambda v, h, radii, moving, g: np.zeros(len(radii)))
     monkeypatch.setattr(sweep, "outran", lambda *args: False)
-    monkeypatch.setattr(EventSearch, "_unwatched_meetings", lambda self, *args: {})
+    monkeypatch.setattr(pair_scan, "unwatched_meetings", lambda *args: {})
     scene = runtime.load_scene(SCENES / "wall_shot.toml")
     with pytest.raises(runtime.SimulationError) as info:
         runtime.simulate(scene, duration=0.05, dt=1.0 / 60.0)

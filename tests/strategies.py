@@ -43,10 +43,10 @@ import numpy as np
 from hypothesis import assume
 from hypothesis import strategies as st
 
+from runtime import settings
 from runtime.model import shapes as _shapes
 
 G = 9.81
-RESTING_SPEED = 1e-3  # m/s, runtime.settings.RESTING_SPEED: slower impacts are plastic
 SHAPE_KINDS = ("disc", "polygon", "rounded_rect", "half_disc", "ellipse")
 ENVIRONMENTS = ("floor", "box")
 METHODS = ("rk4", "rk4", "midpoint", "euler")  # drawn: rk4 twice as often
@@ -333,7 +333,7 @@ def moving_pairs(
     count = draw(st.integers(2, max_bodies))
     specs = [draw(_body(elastic=elastic, densities=densities)) for _ in range(count)]
     step_travel = travel if isinstance(travel, float) else draw(st.sampled_from(travel))
-    speed = max(scale * 10.0 ** draw(st.floats(-1.0, 3.0)), 10.0 * RESTING_SPEED)
+    speed = max(scale * 10.0 ** draw(st.floats(-1.0, 3.0)), 10.0 * settings.RESTING_SPEED)
     bodies: list[dict[str, Any]] = []
     placed: list[tuple[float, float, float]] = []  # (x, y, reach) of each centre of mass
     thinnest, bound = math.inf, 0.0
@@ -488,9 +488,12 @@ class Report:
     run: Any = None
     error: BaseException | None = None
     problems: dict[str, list[str]] = field(default_factory=dict)
+    beyond: set[str] = field(default_factory=set)  # kinds past what the engine's guards catch
 
-    def add(self, kind: str, detail: str) -> None:
+    def add(self, kind: str, detail: str, beyond_guards: bool = False) -> None:
         self.problems.setdefault(kind, []).append(detail)
+        if beyond_guards:
+            self.beyond.add(kind)
 
     def failures(self, *ignore: str) -> dict[str, list[str]]:
         """The problems but those of the kinds ``ignore``."""
@@ -592,13 +595,16 @@ def check_run(report: Report) -> None:
                 "energy",
                 f"E grew by {growth:.3g} J = {growth / drawn.energy_scale:.3g} x the energy "
                 f"scale at t = {arrays['t'][k]:.6g} s (step {k})",
+                growth > settings.ENERGY_GROWTH_LIMIT * _guard_energy_scale(scene),
             )
-    depth, k, what = deepest_penetration(scene, run.poses, PENETRATION_BOUND * drawn.thinnest)
+    depth, k, what, pair = _deepest(scene, run.poses, PENETRATION_BOUND * drawn.thinnest)
     if depth > PENETRATION_BOUND * drawn.thinnest:
+        size = min(scene.shapes[i].bounding_radius for i in pair)
         report.add(
             "penetration",
             f"{what} by {depth:.3g} m = {depth / drawn.thinnest:.3g} half-widths at "
             f"t = {arrays['t'][k]:.6g} s (step {k})",
+            depth > settings.PENETRATION_LIMIT * size,
         )
     if drawn.environment == "space":
         check_conservation(report)
@@ -610,7 +616,9 @@ def check_run(report: Report) -> None:
     if np.any(below | outside):
         k, b = (int(i[0]) for i in np.nonzero(below | outside))
         name = [body.name for body in scene.bodies if not body.fixed][b]
-        report.add("escaped", f"{name!r} at {centres[k, b].tolist()} at t = {arrays['t'][k]:.6g} s")
+        report.add(
+            "escaped", f"{name!r} at {centres[k, b].tolist()} at t = {arrays['t'][k]:.6g} s", True
+        )
 
 
 MOMENTUM_BOUND = 1e-9  # relative change of linear momentum in empty space (a linear invariant:
@@ -644,6 +652,7 @@ def check_conservation(report: Report) -> None:
             "momentum",
             f"momentum changed by {dp / p_scale:.3g}, angular momentum by {dl / l_scale:.3g} "
             f"of their scales ({len(run.impact_times)} impacts)",
+            True,  # no guard watches momentum
         )
 
 
@@ -651,17 +660,32 @@ def deepest_penetration(scene: Any, poses_list: Any, bound: float) -> tuple[floa
     """The deepest overlap over the recorded poses: the engine's own contacts (exact gaps,
     tolerance 0) and, since those leave out implausibly deep ones, sampled boundary points
     of one body inside another (runtime/scene_overlap.py). ``(depth, step, description)``."""
+    return _deepest(scene, poses_list, bound)[:3]
+
+
+def _deepest(scene: Any, poses_list: Any, bound: float) -> tuple[float, int, str, tuple]:
+    """:func:`deepest_penetration` and the pair of bodies (scene indices)."""
     from runtime.io.scene_overlap import deepest_overlap
 
-    worst = (0.0, 0, "")
+    worst: tuple = (0.0, 0, "", (0, 0))
     for k, poses in enumerate(poses_list):
         found = scene.contacts(poses, tolerance=0.0)
         for c, gap in enumerate(found.gap.tolist()):
             if -gap > worst[0]:
-                names = scene.bodies[found.body1[c]].name, scene.bodies[found.body2[c]].name
-                worst = (-gap, k, f"{found.case_name(c)} contact {names[0]}/{names[1]}")
+                pair = int(found.body1[c]), int(found.body2[c])
+                names = scene.bodies[pair[0]].name, scene.bodies[pair[1]].name
+                worst = (-gap, k, f"{found.case_name(c)} contact {names[0]}/{names[1]}", pair)
         deep = deepest_overlap(scene.shapes, poses, scene.fixed, max(bound, worst[0]))
         if deep is not None and deep[2] > worst[0]:
             names = scene.bodies[deep[0]].name, scene.bodies[deep[1]].name
-            worst = (deep[2], k, f"{names[0]} inside {names[1]} (sampled)")
+            worst = (deep[2], k, f"{names[0]} inside {names[1]} (sampled)", deep[:2])
     return worst
+
+
+def _guard_energy_scale(scene: Any) -> float:
+    """The energy scale the engine's energy guard measures growth in (runtime.step.guards)."""
+    from runtime.step.guards import energy_scale
+    from runtime.step.world import kinetic_energy
+
+    radii = np.array([s.bounding_radius for s in scene.shapes], dtype=float)
+    return energy_scale(scene, radii, kinetic_energy(scene, scene.velocities()))

@@ -22,8 +22,8 @@ strategies.moving_pairs, where momentum is conserved as well):
   explicit Euler gains energy in free fall by construction);
 * penetration, measured at every recorded step by the exact contact gaps and by sampled
   boundary points (which also catch contacts too deep for the contact finder), stays below
-  ``PENETRATION_BOUND`` (1e-3) half-widths of the thinnest body, and no centre of mass ends up
-  below the floor or outside the box (tunnelling);
+  ``PENETRATION_BOUND`` (1e-3; explicit Euler, first order: 1e-2) half-widths of the thinnest
+  body, and no centre of mass ends up below the floor or outside the box (tunnelling);
 * a second run of the same scene gives a bitwise identical trajectory, in the same process
   and in two fresh interpreters with different hash seeds.
 """

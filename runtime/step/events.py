@@ -359,12 +359,12 @@ class EventSearch:
             for s in range(1, samples + 1):
                 t = h * s / samples
                 g_now, v_now = gap(t)
-                if not touching[k] and g_now > 0 and v_prev < 0 < v_now:
+                # a touching contact that separated by the previous sample is an open one now
+                touches = bool(touching[k]) and g_prev <= self.touch
+                if not touches and g_now > 0 and v_prev < 0 < v_now:
                     b = find_dip(gap, k, t_prev, g_prev, v_prev, t, g_now, v_now)
                 else:
-                    b = bracket_one(
-                        k, g_prev, v_prev, g_now, v_now, t_prev, t - t_prev, bool(touching[k])
-                    )
+                    b = bracket_one(k, g_prev, v_prev, g_now, v_now, t_prev, t - t_prev, touches)
                 if b is not None:
                     out.append(b)
                     break

@@ -44,10 +44,10 @@ def first_touch(
     search, i: int, j: int, traj, until: float, known: set, count: int = 1
 ) -> float | None:
     """The first instant in (0, until] at which bodies i and j touch at a contact not
-    ``known``: the contact finder asked at ``count`` instants along ``traj``, then bisection
-    on its smallest gap of such contacts (the distance between the bodies, whichever features
-    are nearest), to the gap an impact location reaches or to the time resolution; None if
-    they do not touch at any of the instants."""
+    ``known``, after being clear of each other: the contact finder asked at ``count``
+    instants along ``traj``, then bisection on its smallest gap of such contacts (the
+    distance between the bodies, whichever features are nearest), to the gap an impact
+    location reaches or to the time resolution; None if they do not touch again."""
     touch = search.touch
 
     def depth(t: float) -> float:
@@ -56,15 +56,14 @@ def first_touch(
         gaps = [g for key, g in zip(keys, found.gap.tolist(), strict=True) if key not in known]
         return min(gaps, default=math.inf)
 
-    if depth(0.0) <= 0:
-        return None
-    lo = 0.0
+    lo, clear = 0.0, depth(0.0) > 0  # touching at the start (just after an impact): not yet
     for s in range(1, count + 1):
         hi = until * s / count
         d_hi = depth(hi)
-        if d_hi <= 0:
+        if d_hi > 0:
+            lo, clear = hi, True
+        elif clear:
             break
-        lo = hi
     else:
         return None
     time_tol = settings.TIME_EPS * np.finfo(float).eps * until

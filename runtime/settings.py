@@ -140,6 +140,11 @@ GRAZE = 1e-6  # relative to TOUCH: a zero of d with d' = 0 that dips less than t
 FAST_PAIR = 0.25  # relative to the smaller body's half width: a pair that moves more than this
 # against each other within a step is watched by conservative advancement, not by a cubic fit of
 # its gap between the step's ends (a fit misses two discs passing through each other)
+DIP_SCREEN = 1.0  # relative to the Hermite cubic's variation over an interval (its larger end
+# value less its minimum): a contact open at both ends whose cubic's minimum is closer to 0 than
+# this is checked against the real gap (runtime.step.events.find_dip). The cubic's error is a
+# fraction (~(travel / size)^2) of that variation, so a minimum farther up cannot be a dip
+DIP_LEVELS = 8  # real-gap checks of one such interval, each narrowing it toward the real minimum
 ANGLE_WRAP = 1e3  # rad: angles beyond this are wrapped to (-pi, pi] between steps, so the
 # integrator keeps 1e-13 rad of resolution however long a body spins
 

@@ -6,7 +6,8 @@ stale. The same expressions as generated/distance_joint.py (the NumPy kernels, t
 compiled by numba, with batch loops over joints k: poses and velocities (n, 3), body1, body2 (a
 negative body2[k] is the world: pose 0 and at rest, anchor 2 in world coordinates), geometry
 (m, 7), static2 (m,) booleans (body 2 fixed), members: the joints to evaluate. The joint has
-1 row(s): outputs are (m, 1), Jacobians (m, 1, 6).
+1 row(s): outputs are (m, 1), Jacobians (m, 1, 6). Division by zero gives inf or NaN as in the NumPy kernels (numba's
+"numpy" error model): a distance joint's direction is undefined when its anchors coincide.
 
 Geometry columns (`geometry[k, c]`): px1 -> 0, py1 -> 1, px2 -> 3, py2 -> 4, length -> 5.
 """
@@ -129,7 +130,7 @@ ARGUMENTS = {
 }
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap(x1, y1, th1, x2, y2, th2, px1, py1, px2, py2, length):
     """Constraint value d (0 when the joint holds). Returns d."""
     e0 = np.cos(th1)
@@ -148,7 +149,7 @@ def gap(x1, y1, th1, x2, y2, th2, px1, py1, px2, py2, length):
     return -length + s_len
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_velocity(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, px2, py2):
     """Exact d' for any state. Returns d1."""
     e0 = np.cos(th1)
@@ -177,7 +178,7 @@ def gap_velocity(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1,
     return (s_x * s_x_t + s_y * s_y_t) / s_len
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_acceleration(
     x1,
     y1,
@@ -241,7 +242,7 @@ def gap_acceleration(
     return e12 * (s_tan * s_tan + s_x * s_x_tt + s_y * s_y_tt)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def jacobian(x1, y1, th1, x2, y2, th2, px1, py1, px2, py2):
     """Jacobian rows of the joint: the A-matrix lever terms. Returns j1x, j1y, j1th, j2x, j2y, j2th."""
     e0 = np.cos(th1)
@@ -267,7 +268,7 @@ def jacobian(x1, y1, th1, x2, y2, th2, px1, py1, px2, py2):
     return e9, e10, e8 * (e2 * s_y - e3 * s_x), -e9, -e10, e8 * (-e6 * s_y + e7 * s_x)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def bias(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, px2, py2):
     """Velocity-dependent part of d'': the b-vector term. Returns b."""
     e0 = np.cos(th1)
@@ -308,7 +309,7 @@ def bias(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, px2, py
     return e12 * (s_tan * s_tan + s_x * s_x_tt + s_y * s_y_tt)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_velocity_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, px2, py2):
     """Exact d' for any state. Returns d1."""
     e0 = np.cos(th1)
@@ -333,7 +334,7 @@ def gap_velocity_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, px2, 
     return (s_x * s_x_t + s_y * s_y_t) / s_len
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_acceleration_static2(
     x1, y1, th1, vx1, vy1, w1, ax1, ay1, al1, x2, y2, th2, px1, py1, px2, py2
 ):
@@ -368,7 +369,7 @@ def gap_acceleration_static2(
     return e8 * (s_tan * s_tan + s_x * s_x_tt + s_y * s_y_tt)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def jacobian_static2(x1, y1, th1, x2, y2, th2, px1, py1, px2, py2):
     """Jacobian rows of the joint: the A-matrix lever terms. Returns j1x, j1y, j1th."""
     e0 = np.cos(th1)
@@ -390,7 +391,7 @@ def jacobian_static2(x1, y1, th1, x2, y2, th2, px1, py1, px2, py2):
     return e6 * s_x, e6 * s_y, e6 * (e2 * s_y - e3 * s_x)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def bias_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, px2, py2):
     """Velocity-dependent part of d'': the b-vector term. Returns b."""
     e0 = np.cos(th1)
@@ -423,7 +424,7 @@ def bias_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, px2, py2):
     return e8 * (s_tan * s_tan + s_x * s_x_tt + s_y * s_y_tt)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def body2_pose(poses, j):
     """Body 2's pose; j < 0 is the world (origin, angle 0)."""
     if j < 0:
@@ -431,7 +432,7 @@ def body2_pose(poses, j):
     return poses[j, 0], poses[j, 1], poses[j, 2]
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_gap(poses, body1, body2, geometry, members, out):
     """out[k, r] = d of row r of joint k, for k in members."""
     for k in members:
@@ -452,7 +453,7 @@ def batch_gap(poses, body1, body2, geometry, members, out):
         )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_gap_velocity(poses, velocities, body1, body2, geometry, static2, members, out):
     """out[k, r] = d' of row r of joint k (static2[k] or body2[k] < 0: body 2 fixed)."""
     for k in members:
@@ -496,7 +497,7 @@ def batch_gap_velocity(poses, velocities, body1, body2, geometry, static2, membe
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_rows(poses, velocities, body1, body2, geometry, static2, members, jacobian_out, bias_out):
     """Jacobian rows (jacobian_out[k, r]: 6 numbers, body 1 then body 2) and biases of joint k."""
     for k in members:
@@ -569,7 +570,7 @@ def batch_rows(poses, velocities, body1, body2, geometry, static2, members, jaco
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_all(
     poses,
     velocities,

@@ -6,7 +6,8 @@ stale. The same expressions as generated/pin_joint.py (the NumPy kernels, the pu
 compiled by numba, with batch loops over joints k: poses and velocities (n, 3), body1, body2 (a
 negative body2[k] is the world: pose 0 and at rest, anchor 2 in world coordinates), geometry
 (m, 7), static2 (m,) booleans (body 2 fixed), members: the joints to evaluate. The joint has
-2 row(s): outputs are (m, 2), Jacobians (m, 2, 6).
+2 row(s): outputs are (m, 2), Jacobians (m, 2, 6). Division by zero gives inf or NaN as in the NumPy kernels (numba's
+"numpy" error model): a distance joint's direction is undefined when its anchors coincide.
 
 Geometry columns (`geometry[k, c]`): px1 -> 0, py1 -> 1, px2 -> 3, py2 -> 4.
 """
@@ -55,7 +56,7 @@ ARGUMENTS = {
 }
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap(x1, y1, th1, x2, y2, th2, px1, py1, px2, py2):
     """Constraint value d (0 when the joint holds). Returns d_x, d_y."""
     e0 = np.cos(th1)
@@ -73,7 +74,7 @@ def gap(x1, y1, th1, x2, y2, th2, px1, py1, px2, py2):
     return s_x, s_y
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_velocity(th1, vx1, vy1, w1, th2, vx2, vy2, w2, px1, py1, px2, py2):
     """Exact d' for any state. Returns d1_x, d1_y."""
     e0 = np.sin(th1)
@@ -89,7 +90,7 @@ def gap_velocity(th1, vx1, vy1, w1, th2, vx2, vy2, w2, px1, py1, px2, py2):
     return s_x_t, s_y_t
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_acceleration(th1, w1, ax1, ay1, al1, th2, w2, ax2, ay2, al2, px1, py1, px2, py2):
     """Exact d'' for any state. Returns d2_x, d2_y."""
     e0 = np.sin(th1)
@@ -111,7 +112,7 @@ def gap_acceleration(th1, w1, ax1, ay1, al1, th2, w2, ax2, ay2, al2, px1, py1, p
     return s_x_tt, s_y_tt
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def jacobian(th1, th2, px1, py1, px2, py2):
     """Jacobian rows of the joint: the A-matrix lever terms. Returns j1x_x, j1y_x, j1th_x, j2x_x, j2y_x, j2th_x, j1x_y, j1y_y, j1th_y, j2x_y, j2y_y, j2th_y."""
     e0 = np.sin(th1)
@@ -134,7 +135,7 @@ def jacobian(th1, th2, px1, py1, px2, py2):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def bias(th1, w1, th2, w2, px1, py1, px2, py2):
     """Velocity-dependent part of d'': the b-vector term. Returns b_x, b_y."""
     e0 = w1 * w1
@@ -152,7 +153,7 @@ def bias(th1, w1, th2, w2, px1, py1, px2, py2):
     return s_x_tt, s_y_tt
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_velocity_static2(th1, vx1, vy1, w1, px1, py1):
     """Exact d' for any state. Returns d1_x, d1_y."""
     e0 = np.sin(th1)
@@ -164,7 +165,7 @@ def gap_velocity_static2(th1, vx1, vy1, w1, px1, py1):
     return s_x_t, s_y_t
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_acceleration_static2(th1, w1, ax1, ay1, al1, px1, py1):
     """Exact d'' for any state. Returns d2_x, d2_y."""
     e0 = np.sin(th1)
@@ -179,7 +180,7 @@ def gap_acceleration_static2(th1, w1, ax1, ay1, al1, px1, py1):
     return s_x_tt, s_y_tt
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def jacobian_static2(th1, px1, py1):
     """Jacobian rows of the joint: the A-matrix lever terms. Returns j1x_x, j1y_x, j1th_x, j1x_y, j1y_y, j1th_y."""
     e0 = np.sin(th1)
@@ -187,7 +188,7 @@ def jacobian_static2(th1, px1, py1):
     return 1, 0, -e0 * px1 - e1 * py1, 0, 1, -e0 * py1 + e1 * px1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def bias_static2(th1, w1, px1, py1):
     """Velocity-dependent part of d'': the b-vector term. Returns b_x, b_y."""
     e0 = w1 * w1
@@ -200,7 +201,7 @@ def bias_static2(th1, w1, px1, py1):
     return s_x_tt, s_y_tt
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def body2_pose(poses, j):
     """Body 2's pose; j < 0 is the world (origin, angle 0)."""
     if j < 0:
@@ -208,7 +209,7 @@ def body2_pose(poses, j):
     return poses[j, 0], poses[j, 1], poses[j, 2]
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_gap(poses, body1, body2, geometry, members, out):
     """out[k, r] = d of row r of joint k, for k in members."""
     for k in members:
@@ -228,7 +229,7 @@ def batch_gap(poses, body1, body2, geometry, members, out):
         )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_gap_velocity(poses, velocities, body1, body2, geometry, static2, members, out):
     """out[k, r] = d' of row r of joint k (static2[k] or body2[k] < 0: body 2 fixed)."""
     for k in members:
@@ -261,7 +262,7 @@ def batch_gap_velocity(poses, velocities, body1, body2, geometry, static2, membe
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_rows(poses, velocities, body1, body2, geometry, static2, members, jacobian_out, bias_out):
     """Jacobian rows (jacobian_out[k, r]: 6 numbers, body 1 then body 2) and biases of joint k."""
     for k in members:
@@ -297,7 +298,7 @@ def batch_rows(poses, velocities, body1, body2, geometry, static2, members, jaco
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_all(
     poses,
     velocities,

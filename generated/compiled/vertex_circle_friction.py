@@ -5,7 +5,8 @@ templates/friction_module_compiled.py.j2; `regenerate-equations --check` fails w
 stale. The same expressions as generated/vertex_circle_friction.py (the NumPy kernels, the public API),
 compiled by numba, with batch loops over contacts of the same conventions as the normal rows'
 (generated/compiled/vertex_circle.py: poses and velocities (n, 3), body1, body2, geometry
-(m, 7), static2 (m,) booleans, members: the contacts to evaluate).
+(m, 7), static2 (m,) booleans, members: the contacts to evaluate). Division by zero gives inf or NaN as in the NumPy kernels
+(numba's "numpy" error model): the normal, hence t, of coincident circle centres is undefined.
 
 Geometry columns (`geometry[k, c]`): px1 -> 0, py1 -> 1, cx2 -> 3, cy2 -> 4, r2 -> 5.
 """
@@ -145,7 +146,7 @@ ARGUMENTS = {
 }
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_velocity(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, cx2, cy2, r2):
     """Tangential relative velocity v_t of the contact points (exact, any state). Returns vt."""
     e0 = np.cos(th1)
@@ -173,7 +174,7 @@ def tangent_velocity(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, 
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_acceleration(
     x1,
     y1,
@@ -246,7 +247,7 @@ def tangent_acceleration(
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_jacobian(x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     """Tangential Jacobian row J_t: v_t = J_t . velocities, the A-matrix row of friction. Returns j1x, j1y, j1th, j2x, j2y, j2th."""
     e0 = np.cos(th1)
@@ -269,7 +270,7 @@ def tangent_jacobian(x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     return -n_y, n_x, l1_x * n_x + l1_y * n_y, n_y, -n_x, -l2_x * n_x - l2_y * n_y - r2
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_bias(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1, cx2, cy2, r2):
     """Velocity-dependent part of d/dt v_t: the b-vector term of friction. Returns bt."""
     e0 = np.cos(th1)
@@ -314,7 +315,7 @@ def tangent_bias(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, px1, py1,
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_velocity_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     """Tangential relative velocity v_t of the contact points (exact, any state). Returns vt."""
     e0 = np.cos(th1)
@@ -337,7 +338,7 @@ def tangent_velocity_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, c
     return n_x * vy1 - n_y * vx1 + w1 * (l1_x * n_x + l1_y * n_y)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_acceleration_static2(
     x1, y1, th1, vx1, vy1, w1, ax1, ay1, al1, x2, y2, th2, px1, py1, cx2, cy2, r2
 ):
@@ -380,7 +381,7 @@ def tangent_acceleration_static2(
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_jacobian_static2(x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     """Tangential Jacobian row J_t: v_t = J_t . velocities, the A-matrix row of friction. Returns j1x, j1y, j1th."""
     e0 = np.cos(th1)
@@ -403,7 +404,7 @@ def tangent_jacobian_static2(x1, y1, th1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     return -n_y, n_x, l1_x * n_x + l1_y * n_y
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_bias_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, cx2, cy2, r2):
     """Velocity-dependent part of d/dt v_t: the b-vector term of friction. Returns bt."""
     e0 = np.cos(th1)
@@ -439,7 +440,7 @@ def tangent_bias_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, px1, py1, cx2, 
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_tangent_velocity(poses, velocities, body1, body2, geometry, static2, members, out):
     """out[k] = v_t of contact k, for k in members (static2[k]: body 2 fixed)."""
     for k in members:
@@ -484,7 +485,7 @@ def batch_tangent_velocity(poses, velocities, body1, body2, geometry, static2, m
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_tangent_rows(
     poses, velocities, body1, body2, geometry, static2, members, jacobian_out, bias_out
 ):
@@ -562,7 +563,7 @@ def batch_tangent_rows(
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_tangent_all(
     poses, velocities, body1, body2, geometry, static2, members, rate_out, jacobian_out, bias_out
 ):

@@ -5,7 +5,8 @@ templates/friction_module_compiled.py.j2; `regenerate-equations --check` fails w
 stale. The same expressions as generated/vertex_edge_friction.py (the NumPy kernels, the public API),
 compiled by numba, with batch loops over contacts of the same conventions as the normal rows'
 (generated/compiled/vertex_edge.py: poses and velocities (n, 3), body1, body2, geometry
-(m, 7), static2 (m,) booleans, members: the contacts to evaluate).
+(m, 7), static2 (m,) booleans, members: the contacts to evaluate). Division by zero gives inf or NaN as in the NumPy kernels
+(numba's "numpy" error model): the normal, hence t, of coincident circle centres is undefined.
 
 Geometry columns (`geometry[k, c]`): px1 -> 0, py1 -> 1, ex2 -> 3, ey2 -> 4, nx2 -> 5, ny2 -> 6.
 """
@@ -87,7 +88,7 @@ ARGUMENTS = {
 }
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_velocity(th1, vx1, vy1, w1, th2, vx2, vy2, w2, px1, py1, ex2, ey2, nx2, ny2):
     """Tangential relative velocity v_t of the contact points (exact, any state). Returns vt."""
     e0 = np.cos(th1)
@@ -108,7 +109,7 @@ def tangent_velocity(th1, vx1, vy1, w1, th2, vx2, vy2, w2, px1, py1, ex2, ey2, n
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_acceleration(
     th1, vx1, vy1, w1, ax1, ay1, al1, th2, vx2, vy2, w2, ax2, ay2, al2, px1, py1, ex2, ey2, nx2, ny2
 ):
@@ -147,7 +148,7 @@ def tangent_acceleration(
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_jacobian(th1, th2, px1, py1, ex2, ey2, nx2, ny2):
     """Tangential Jacobian row J_t: v_t = J_t . velocities, the A-matrix row of friction. Returns j1x, j1y, j1th, j2x, j2y, j2th."""
     e0 = np.cos(th1)
@@ -163,7 +164,7 @@ def tangent_jacobian(th1, th2, px1, py1, ex2, ey2, nx2, ny2):
     return -n_y, n_x, l1_x * n_x + l1_y * n_y, n_y, -n_x, -l2_x * n_x - l2_y * n_y
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_bias(th1, vx1, vy1, w1, th2, vx2, vy2, w2, px1, py1, ex2, ey2, nx2, ny2):
     """Velocity-dependent part of d/dt v_t: the b-vector term of friction. Returns bt."""
     e0 = np.cos(th1)
@@ -196,7 +197,7 @@ def tangent_bias(th1, vx1, vy1, w1, th2, vx2, vy2, w2, px1, py1, ex2, ey2, nx2, 
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_velocity_static2(th1, vx1, vy1, w1, th2, px1, py1, nx2, ny2):
     """Tangential relative velocity v_t of the contact points (exact, any state). Returns vt."""
     e0 = np.cos(th1)
@@ -210,7 +211,7 @@ def tangent_velocity_static2(th1, vx1, vy1, w1, th2, px1, py1, nx2, ny2):
     return n_x * vy1 - n_y * vx1 + w1 * (l1_x * n_x + l1_y * n_y)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_acceleration_static2(th1, w1, ax1, ay1, al1, th2, px1, py1, nx2, ny2):
     """Exact d/dt v_t for any state. Returns at."""
     e0 = np.cos(th1)
@@ -230,7 +231,7 @@ def tangent_acceleration_static2(th1, w1, ax1, ay1, al1, th2, px1, py1, nx2, ny2
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_jacobian_static2(th1, th2, px1, py1, nx2, ny2):
     """Tangential Jacobian row J_t: v_t = J_t . velocities, the A-matrix row of friction. Returns j1x, j1y, j1th."""
     e0 = np.cos(th1)
@@ -244,7 +245,7 @@ def tangent_jacobian_static2(th1, th2, px1, py1, nx2, ny2):
     return -n_y, n_x, l1_x * n_x + l1_y * n_y
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def tangent_bias_static2(th1, w1, th2, px1, py1, nx2, ny2):
     """Velocity-dependent part of d/dt v_t: the b-vector term of friction. Returns bt."""
     e0 = np.sin(th1)
@@ -258,7 +259,7 @@ def tangent_bias_static2(th1, w1, th2, px1, py1, nx2, ny2):
     return w1 * (l1_x_t * n_x + l1_y_t * n_y)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_tangent_velocity(poses, velocities, body1, body2, geometry, static2, members, out):
     """out[k] = v_t of contact k, for k in members (static2[k]: body 2 fixed)."""
     for k in members:
@@ -295,7 +296,7 @@ def batch_tangent_velocity(poses, velocities, body1, body2, geometry, static2, m
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_tangent_rows(
     poses, velocities, body1, body2, geometry, static2, members, jacobian_out, bias_out
 ):
@@ -355,7 +356,7 @@ def batch_tangent_rows(
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_tangent_all(
     poses, velocities, body1, body2, geometry, static2, members, rate_out, jacobian_out, bias_out
 ):

@@ -37,7 +37,7 @@ import math
 import numpy as np
 
 from runtime.collide import ovals
-from runtime.collide.broadphase import sweep
+from runtime.collide.broadphase import sweep, sweep_groups
 from runtime.collide.candidates import BODY1, BODY2, CASE, G, PairContext
 from runtime.collide.corners import corner_on_corner, corners_on_edges
 from runtime.collide.curves import curves_on_curves, curves_on_segments
@@ -104,9 +104,10 @@ def _world(rows, start, poses):
 
 
 @njit
-def find_candidates(poses, base, margins, allowed, rows, start, body, cand, kernel_inputs):
-    """Broad phase, then the candidates of every pair of ``allowed`` bodies into ``cand`` (a row
-    per candidate, runtime.collide.candidates.COLUMNS) and the ``kernel_inputs``
+def find_candidates(poses, base, margins, allowed, groups, rows, start, body, cand, kernel_inputs):
+    """Broad phase, then the candidates of every pair of ``allowed`` bodies (of one collision
+    group, or one of group -1, if ``groups`` is not empty: runtime.collide.broadphase) into
+    ``cand`` (a row per candidate, runtime.collide.candidates.COLUMNS) and the ``kernel_inputs``
     (:func:`_kernel_inputs`).  Returns their number (more than ``cand`` holds: grow it and call
     again), or -1 - b if the pose or margin of body b is not finite."""
     n = len(poses)
@@ -118,7 +119,11 @@ def find_candidates(poses, base, margins, allowed, rows, start, body, cand, kern
     reach = np.empty(n)
     for b in range(n):
         reach[b] = body[b, RADIUS] + 0.5 * max(base, 0.0) + max(margins[b], 0.0)
-    pairs = sweep(poses[:, 0].copy(), poses[:, 1].copy(), reach, body[:, FIXED] > 0)
+    x, y, fixed = poses[:, 0].copy(), poses[:, 1].copy(), body[:, FIXED] > 0
+    if groups.size == 0:
+        pairs = sweep(x, y, reach, fixed)
+    else:
+        pairs = sweep_groups(x, y, reach, fixed, groups)
     world = _world(rows, start, poses)
     k = 0
     for p in range(len(pairs)):

@@ -101,7 +101,9 @@ def emit_function(spec: KernelSpec, geometry: tuple[sp.Symbol, ...]) -> EmittedF
     args = spec.arguments(geometry)
     lines, outputs = _function_body(spec, args)
     freed = _last_uses(lines, outputs, set(args))
-    ret = ", ".join(printer.doprint(o) for o in outputs)
+    # a constant output (a pin joint's unit directions) as a float: numba types a tuple of floats
+    # (an int among them makes it heterogeneous, not indexable in a loop)
+    ret = ", ".join(repr(float(o)) if o.is_number else printer.doprint(o) for o in outputs)
     return EmittedFunction(
         name=spec.name,
         summary=spec.summary,

@@ -120,17 +120,17 @@ def jacobian(th1, th2, px1, py1, px2, py2):
     e2 = np.sin(th2)
     e3 = np.cos(th2)
     return (
-        1,
-        0,
+        1.0,
+        0.0,
         -e0 * px1 - e1 * py1,
-        -1,
-        0,
+        -1.0,
+        0.0,
         e2 * px2 + e3 * py2,
-        0,
-        1,
+        0.0,
+        1.0,
         -e0 * py1 + e1 * px1,
-        0,
-        -1,
+        0.0,
+        -1.0,
         e2 * py2 - e3 * px2,
     )
 
@@ -185,7 +185,7 @@ def jacobian_static2(th1, px1, py1):
     """Jacobian rows of the joint: the A-matrix lever terms. Returns j1x_x, j1y_x, j1th_x, j1x_y, j1y_y, j1th_y."""
     e0 = np.sin(th1)
     e1 = np.cos(th1)
-    return 1, 0, -e0 * px1 - e1 * py1, 0, 1, -e0 * py1 + e1 * px1
+    return 1.0, 0.0, -e0 * px1 - e1 * py1, 0.0, 1.0, -e0 * py1 + e1 * px1
 
 
 @numba.njit(cache=True, error_model="numpy")

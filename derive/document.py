@@ -32,9 +32,9 @@ _NAMES = {
     "al2": r"\alpha_2",
 }
 _NAMES.update({"s_len": r"|s|", "s_tan": r"s_{\perp}", "length": r"\ell"})
-for _stem, _tex in (("n", "n"), ("v", "v"), ("s", "s"), ("l1", "L_1"), ("l2", "L_2")):
+for _stem, _tex in (("n", "n_"), ("v", "v_"), ("s", "s_"), ("l1", "L_1"), ("l2", "L_2")):
     for _c in ("x", "y"):
-        _sub = f"{_tex}_{{{_c}}}" if _tex.startswith("L") else f"{_tex}_{_c}"
+        _sub = f"{_tex[0]}_{{{_tex[2:]}{_c}}}"  # n_{x}, L_{1x}
         _NAMES[f"{_stem}_{_c}"] = _sub
         _NAMES[f"{_stem}_{_c}_t"] = rf"\dot {_sub}"
         _NAMES[f"{_stem}_{_c}_tt"] = rf"\ddot {_sub}"
@@ -105,7 +105,7 @@ def _rows_context(result: ModuleResult, title: str, outputs: dict[str, str]) -> 
         "title": title,
         "intermediates": [(latex(s), latex(v)) for s, v in f.intermediates],
         "outputs": [
-            (tex.format(row=_row_label(k, rows)), latex(e))
+            (tex.format(row=_row_label(k, rows)), latex(e, 3))
             for name, tex in outputs.items()
             for k, e in enumerate(f.values[name])
         ],

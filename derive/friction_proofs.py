@@ -49,15 +49,15 @@ def _identify(case: CaseDefinition, fv: Derived, still: dict) -> tuple[bool, dic
     step 3's reference needs for what the derivation folded away (body 2 fixed: L2' = 0, and
     n' = 0 on a straight edge)."""
     defined = dict(fv.intermediates)
-    levers = {s: v.subs(still) for s, v in ref.lever_values(case.name).items()}
+    levers = {s: v.xreplace(still) for s, v in ref.lever_values(case.name).items()}
     ok = all_zero((defined[s], v) for s, v in levers.items() if s in defined)
     folded = {s: v for s, v in levers.items() if s not in defined}
     n = ref.geometry(case.name, levers=True).n
     wanted = {NX: n[0], NY: n[1], NX_T: n[0].diff(ref.TAU), NY_T: n[1].diff(ref.TAU)}
     unit = _unit_edge(case)
     for s, value in wanted.items():
-        want = at_instant(value).subs(still).subs(folded).subs(unit)
-        ours = inline_scalars(fv, defined.get(s, sp.Integer(0)), levers).subs(unit)
+        want = at_instant(value).xreplace(still).xreplace(folded).xreplace(unit)
+        ours = inline_scalars(fv, defined.get(s, sp.Integer(0)), levers).xreplace(unit)
         ok = ok and all_zero([(ours, want)])
     if NX_T not in defined:
         folded[OMEGA_N] = 0
@@ -67,7 +67,7 @@ def _identify(case: CaseDefinition, fv: Derived, still: dict) -> tuple[bool, dic
 def _ours(fv: Derived, expr: sp.Expr, case: CaseDefinition) -> sp.Expr:
     """`expr` in the levers, with the normal an arbitrary unit vector (step 3)."""
     kept = {**ref.lever_values(case.name), **GENERIC_NORMAL}
-    return inline_scalars(fv, expr, kept).subs(GENERIC_NORMAL)
+    return inline_scalars(fv, expr, kept).xreplace(GENERIC_NORMAL)
 
 
 def exact_rates(case: CaseDefinition, f: Derived) -> list[Proof]:
@@ -80,7 +80,7 @@ def exact_rates(case: CaseDefinition, f: Derived) -> list[Proof]:
         pairs = [("tangent_acceleration", at)]
         pairs += [] if "bias" in variant else [("tangent_velocity", vt)]
         held[variant] = ok and all_zero(
-            (_ours(fv, fv.values[name][0], case), want.subs(still).subs(folded))
+            (_ours(fv, fv.values[name][0], case), want.xreplace(still).xreplace(folded))
             for name, want in pairs
         )
     return [
@@ -113,7 +113,7 @@ def jacobian_row(case: CaseDefinition, f: Derived) -> Proof:
     fixed = f.static2
     still = RESTRICTIONS["static2"]
     fixed_ok, folded = _identify(case, fixed, still)
-    at_fixed = at.subs(still).subs(folded)
+    at_fixed = at.xreplace(still).xreplace(folded)
     pairs += [
         (_ours(fixed, j, case), sp.diff(at_fixed, ref.ACCELERATION[k]))
         for k, j in enumerate(fixed.jacobian[0][:3])
@@ -167,8 +167,8 @@ def rolling(case: CaseDefinition, f: Derived) -> Proof:
             " the velocities of the circles' centres: v_t = 0 is the rolling condition (two"
             " discs at rest turn with w1 r1 = -w2 r2; a disc in a fixed bowl has v_c1.t = w1 r1)"
         )
-    ours = f.in_state_symbols(f.values["tangent_velocity"][0]).subs(_unit_edge(case))
-    return Proof(statement, all_zero([(ours, textbook.subs(_unit_edge(case)))]))
+    ours = f.in_state_symbols(f.values["tangent_velocity"][0]).xreplace(_unit_edge(case))
+    return Proof(statement, all_zero([(ours, textbook.xreplace(_unit_edge(case)))]))
 
 
 def friction_proofs(case: CaseDefinition, f: Derived) -> list[Proof]:

@@ -34,13 +34,13 @@ def exact_rows(joint: JointDefinition, j: Derived) -> list[Proof]:
     held = {}
     for variant, jv in _variants(j).items():
         still = RESTRICTIONS[variant]
-        levers = {s: v.subs(still) for s, v in ref.lever_values(joint.name, 3).items()}
+        levers = {s: v.xreplace(still) for s, v in ref.lever_values(joint.name, 3).items()}
         defined = dict(jv.intermediates)
         ok = all_zero((defined[s], v) for s, v in levers.items() if s in defined)
         folded = {s: v for s, v in levers.items() if s not in defined}
         outputs = ("gap_acceleration",) if "bias" in variant else tuple(jv.values)
         held[variant] = ok and all_zero(
-            (_in_levers(jv, ours, levers), at_instant(row, order[name]).subs(still).subs(folded))
+            (_in_levers(jv, ours, levers), at_instant(row, order[name]).xreplace(still).xreplace(folded))
             for name in outputs
             for ours, row in zip(jv.values[name], rows, strict=True)
         )

@@ -44,13 +44,14 @@ def is_zero(expr: sp.Expr) -> bool:
     the remainder is a normal form: zero exactly when the numerator is in the ideal they span.
     """
     x1, y1, th1, x2, y2, th2 = ref.POSE
-    expr = sp.sympify(expr).subs({DX: x1 - x2, DY: y1 - y2})
-    expr = expr.subs(sp.sign(sym("r2")), SIGMA2)
+    # xreplace (exact nodes, no pattern matching) is several times faster than subs here; a
+    # node it missed would stay an independent variable, which can only make a proof fail
+    expr = sp.sympify(expr).xreplace({DX: x1 - x2, DY: y1 - y2, sp.sign(sym("r2")): SIGMA2})
     trig = []
     for angle in (th1, th2, BETA):
         c, s = sp.Dummy(), sp.Dummy()
         trig.append((c, s))
-        expr = expr.subs({sp.cos(angle): c, sp.sin(angle): s})
+        expr = expr.xreplace({sp.cos(angle): c, sp.sin(angle): s})
 
     def canonical(e: sp.Expr) -> sp.Expr:
         e = sp.expand(e).replace(
@@ -64,7 +65,7 @@ def is_zero(expr: sp.Expr) -> bool:
     for power in sorted(_half_powers(expr), key=sp.default_sort_key):
         content, base = canonical(power.base).as_content_primitive()  # sqrt(4 B) = 2 sqrt(B)
         root = roots.setdefault(base, sp.Dummy(positive=True))
-        expr = expr.subs(power, content**power.exp * root ** int(2 * power.exp))
+        expr = expr.xreplace({power: content**power.exp * root ** int(2 * power.exp)})
     if _half_powers(expr):
         raise ValueError(f"is_zero: nested square roots are not supported: {_half_powers(expr)}")
     numerator = sp.expand(sp.numer(sp.together(expr)))
@@ -115,7 +116,7 @@ def inline_scalars(d, expr: sp.Expr, vectors) -> sp.Expr:
     dy) replaced by their definitions."""
     for s, value in reversed(d.intermediates):
         if s not in vectors:
-            expr = expr.subs(s, value)
+            expr = expr.xreplace({s: value})
     return expr.replace(Hypot, lambda a, b: sp.sqrt(a**2 + b**2)).replace(
         UnitSign, lambda r: sp.sign(r)
     )

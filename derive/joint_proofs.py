@@ -40,7 +40,10 @@ def exact_rows(joint: JointDefinition, j: Derived) -> list[Proof]:
         folded = {s: v for s, v in levers.items() if s not in defined}
         outputs = ("gap_acceleration",) if "bias" in variant else tuple(jv.values)
         held[variant] = ok and all_zero(
-            (_in_levers(jv, ours, levers), at_instant(row, order[name]).xreplace(still).xreplace(folded))
+            (
+                _in_levers(jv, ours, levers),
+                at_instant(row, order[name]).xreplace(still).xreplace(folded),
+            )
             for name in outputs
             for ours, row in zip(jv.values[name], rows, strict=True)
         )

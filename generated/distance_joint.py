@@ -4,14 +4,16 @@ Written by `regenerate-equations` from derive/joints.py through
 templates/joint_module.py.j2; `regenerate-equations --check` fails when this file is stale.
 Derivation: docs/derivations.pdf, section "Joints".
 
-d = |p1 - p2| - length, with the anchors p1 = X1 + R(th1) (px1, py1) of body 1 and
-p2 = X2 + R(th2) (px2, py2) of body 2 (body coordinates: origin at the centre of mass). For a
+d = |p1 - p2| - length,
+with the anchors p1 = X1 + R(th1) (px1, py1) of body 1 and p2 = X2 + R(th2) (px2, py2) of body 2
+(body coordinates: origin at the centre of mass). For a
 joint to the world use the *_static2 functions with x2 = y2 = th2 = 0 and the anchor in world
 coordinates. One row; it needs |s| > 0 (length > 0: a zero length is a pin joint).
 Every function takes keyword arguments only and broadcasts over NumPy arrays (or plain floats);
-ARGUMENTS lists each function's arguments in order. The rows are bilateral: the runtime assembles
-A = J M^-1 J^T and b = J M^-1 F_ext + bias from the `jacobian` rows like a contact's, and the
-joint force may take either sign.
+ARGUMENTS lists each function's arguments in order; an entry that is constant (a pin's unit
+directions in `jacobian`) is a plain float, to broadcast against the others. The rows are
+bilateral: the runtime assembles A = J M^-1 J^T and b = J M^-1 F_ext + bias from the `jacobian`
+rows like a contact's, and the joint force may take either sign.
 """
 
 import numpy as np

@@ -6,14 +6,17 @@ Derivation: docs/derivations.pdf, section "Tangential (friction) rows".
 
 t = n turned by +90 degrees = (-n_y, n_x), n the normal of generated/vertex_circle.py (body 2 ->
 body 1). The contact points are material points on the common normal, equal at a contact (d = 0):
-p1 = the vertex; p2 = p1 - d n = c2 + r2 n, the point of the circular edge on the ray from c2 through p1.
+p1 = the vertex; p2 = p1 - d n = c2 + r2 n, the point of the circular edge on the ray from c2
+through p1.
 v_t = (u1(p1) - u2(p2)) . t with u_i the velocity of body i's material point there.
 Arguments and geometry columns are those of generated/vertex_circle.py.
 
 A friction force f_t t on body 1 at p1 (and -f_t t on body 2 at p2) enters like a normal force:
 its row `tangent_jacobian` (v_t = J_t . velocities) goes beside the normal rows in A = J M^-1 J^T,
-and d/dt v_t = J_t . accelerations + tangent_bias (sticking keeps it 0). A separate module from the
-normal kernels, so a scene with every friction coefficient 0 never imports it.
+and d/dt v_t = J_t . accelerations + tangent_bias (sticking keeps it 0). v_t > 0: body 1's
+contact point slides along +t relative to body 2's, so kinetic friction has f_t = -mu f_n.
+A separate module from the normal kernels, so a scene with every friction coefficient 0 never
+imports it.
 """
 
 import numpy as np

@@ -12,8 +12,10 @@ Arguments and geometry columns are those of generated/vertex_edge.py.
 
 A friction force f_t t on body 1 at p1 (and -f_t t on body 2 at p2) enters like a normal force:
 its row `tangent_jacobian` (v_t = J_t . velocities) goes beside the normal rows in A = J M^-1 J^T,
-and d/dt v_t = J_t . accelerations + tangent_bias (sticking keeps it 0). A separate module from the
-normal kernels, so a scene with every friction coefficient 0 never imports it.
+and d/dt v_t = J_t . accelerations + tangent_bias (sticking keeps it 0). v_t > 0: body 1's
+contact point slides along +t relative to body 2's, so kinetic friction has f_t = -mu f_n.
+A separate module from the normal kernels, so a scene with every friction coefficient 0 never
+imports it.
 """
 
 import numpy as np

@@ -5,8 +5,9 @@ templates/friction_module_compiled.py.j2; `regenerate-equations --check` fails w
 stale. The same expressions as generated/circle_edge_friction.py (the NumPy kernels, the public API),
 compiled by numba, with batch loops over contacts of the same conventions as the normal rows'
 (generated/compiled/circle_edge.py: poses and velocities (n, 3), body1, body2, geometry
-(m, 7), static2 (m,) booleans, members: the contacts to evaluate). Division by zero gives inf or NaN as in the NumPy kernels
-(numba's "numpy" error model): the normal, hence t, of coincident circle centres is undefined.
+(m, 7), static2 (m,) booleans, members: the contacts to evaluate). Division by zero gives inf
+or NaN as in the NumPy kernels (numba's "numpy" error model): the normal, hence t, of coincident
+circle centres is undefined.
 
 Geometry columns (`geometry[k, c]`): cx1 -> 0, cy1 -> 1, r1 -> 2, ex2 -> 3, ey2 -> 4, nx2 -> 5, ny2 -> 6.
 """

@@ -6,8 +6,9 @@ stale. The same expressions as generated/distance_joint.py (the NumPy kernels, t
 compiled by numba, with batch loops over joints k: poses and velocities (n, 3), body1, body2 (a
 negative body2[k] is the world: pose 0 and at rest, anchor 2 in world coordinates), geometry
 (m, 7), static2 (m,) booleans (body 2 fixed), members: the joints to evaluate. The joint has
-1 row(s): outputs are (m, 1), Jacobians (m, 1, 6). Division by zero gives inf or NaN as in the NumPy kernels (numba's
-"numpy" error model): a distance joint's direction is undefined when its anchors coincide.
+1 row(s): gap, rate and bias outputs are (m, 1), Jacobians (m, 1, 6).
+Division by zero gives inf or NaN as in the NumPy kernels (numba's "numpy" error model): a
+distance joint's direction is undefined when its anchors coincide.
 
 Geometry columns (`geometry[k, c]`): px1 -> 0, py1 -> 1, px2 -> 3, py2 -> 4, length -> 5.
 """

@@ -5,8 +5,9 @@ templates/friction_module_compiled.py.j2; `regenerate-equations --check` fails w
 stale. The same expressions as generated/vertex_circle_friction.py (the NumPy kernels, the public API),
 compiled by numba, with batch loops over contacts of the same conventions as the normal rows'
 (generated/compiled/vertex_circle.py: poses and velocities (n, 3), body1, body2, geometry
-(m, 7), static2 (m,) booleans, members: the contacts to evaluate). Division by zero gives inf or NaN as in the NumPy kernels
-(numba's "numpy" error model): the normal, hence t, of coincident circle centres is undefined.
+(m, 7), static2 (m,) booleans, members: the contacts to evaluate). Division by zero gives inf
+or NaN as in the NumPy kernels (numba's "numpy" error model): the normal, hence t, of coincident
+circle centres is undefined.
 
 Geometry columns (`geometry[k, c]`): px1 -> 0, py1 -> 1, cx2 -> 3, cy2 -> 4, r2 -> 5.
 """

@@ -96,13 +96,13 @@ def _case_context(result: ModuleResult) -> dict:
     }
 
 
-def _rows_context(result: ModuleResult, title: str, outputs: dict[str, str]) -> dict:
+def _rows_context(result: ModuleResult, outputs: dict[str, str]) -> dict:
     """A friction or joint module: its intermediates, outputs (per row) and Jacobian rows."""
     f = result.derived
     rows = f.rows
     return {
         "name": result.name,
-        "title": title,
+        "title": result.title,
         "intermediates": [(latex(s), latex(v)) for s, v in f.intermediates],
         "outputs": [
             (tex.format(row=_row_label(k, rows)), latex(e, 3))
@@ -132,9 +132,7 @@ def render(results: dict[str, ModuleResult]) -> str:
     }
     friction = [
         dict(
-            _rows_context(
-                r, r.title, {"tangent_velocity": "v_t", "tangent_acceleration": r"\dot v_t"}
-            ),
+            _rows_context(r, {"tangent_velocity": "v_t", "tangent_acceleration": r"\dot v_t"}),
             points=tex_text(CONTACT_POINTS[r.name.removesuffix("_friction")]),
         )
         for r in by_kind["friction"]
@@ -143,7 +141,6 @@ def render(results: dict[str, ModuleResult]) -> str:
         dict(
             _rows_context(
                 r,
-                r.title,
                 {"gap": "d{row}", "gap_velocity": "d'{row}", "gap_acceleration": "d''{row}"},
             ),
             definition=tex_text(ALL_JOINTS[r.name]().definition),

@@ -119,7 +119,8 @@ def tangential(case: CaseDefinition) -> Derived:
 
 FORMULAS = {
     "tangent_velocity": "v_t = t.(V1 - V2) + w1 l1 - w2 l2,  t = (-n_y, n_x),  l_i = (p_i - X_i).n",
-    "tangent_acceleration": "d/dt v_t = t'.(V1 - V2) + t.(A1 - A2) + al1 l1 + w1 l1' - al2 l2 - w2 l2'",
+    "tangent_acceleration": "d/dt v_t = t'.(V1 - V2) + t.(A1 - A2)"
+    " + al1 l1 + w1 l1' - al2 l2 - w2 l2'",
     "tangent_jacobian": "(t_x, t_y, l1, -t_x, -t_y, -l2) = d v_t / d(vx1, vy1, w1, vx2, vy2, w2)"
     " = the coefficients of the accelerations in d/dt v_t",
 }

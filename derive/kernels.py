@@ -189,7 +189,10 @@ def joint_specs(
     def names(stem: str) -> tuple[str, ...]:
         return tuple(f"{stem}_{r}" if r else stem for r in row_names)
 
-    jac_formula = "rows of (dd/dx1, dd/dy1, dd/dth1, dd/dx2, dd/dy2, dd/dth2) = the coefficients of the accelerations in d''"
+    jac_formula = (
+        "rows of (dd/dx1, dd/dy1, dd/dth1, dd/dx2, dd/dy2, dd/dth2)"
+        " = the coefficients of the accelerations in d''"
+    )
     bias_formula = f"{formulas['gap_acceleration']}  with every acceleration zero"
     specs = [
         _row_spec(

@@ -1,84 +1,60 @@
-"""The compiled row kernels of a scene's contact cases, as arguments for compiled stages.
+"""The compiled rows of every contact case, dispatched by case id inside compiled stages.
 
-Why: a compiled stage (runtime.step.compiled_stages) evaluates the rows of contacts of every
-case a scene has; it takes the four cases' batch loops as arguments, so only the kernels of the
-cases the scene can produce are imported (model only what a scene needs) and a case it cannot
-produce is a stub that is never called. numba compiles the stage once for each combination
-of cases and keeps it in its cache.
+Why one program for all four cases: a compiled stage (runtime.step.compiled_stages, runtime.step.
+compiled_frame) evaluates the rows of contacts of every case a scene has. Taking only the scene's
+cases' kernels as function arguments compiled a stage per combination of cases, but numba keys
+such code by the argument functions' dispatcher objects, which differ in every process: it could
+never be cached on disk, and every run compiled the stages afresh (about 20 s of CPU on this
+2-core machine before the first step). Called as globals, the four cases' generated batch loops
+(generated/compiled/) compile into the stages once per machine and load from the disk cache
+after that. A case a scene cannot produce has no contacts, so its loop is never entered. The
+NumPy kernels (the general path, the Python API) are still imported per scene: only the cases
+it can produce.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-
 import numpy as np
 
 import generated
+from generated.compiled import circle_circle, circle_edge, vertex_circle, vertex_edge
 from runtime.compiled import njit
-from runtime.solve.rows import load_compiled_cases
+
+if [generated.CASE_ID[c] for c in ("vertex_edge", "vertex_circle", "circle_edge", "circle_circle")] != [0, 1, 2, 3]:  # fmt: skip
+    raise ImportError("generated.CASE_ID changed: runtime/solve/kernel_set.py dispatches by id")
 
 
 @njit
-def no_rows(poses, velocities, body1, body2, geometry, static2, members, jacobian_out, bias_out):
-    """The rows of a case the scene cannot produce: never asked for (members is empty)."""
-    return
-
-
-@njit
-def no_all(poses, velocities, body1, body2, geometry, static2, members, gap_out, rate_out,
-           jacobian_out, bias_out):  # fmt: skip
-    """All rows of a case the scene cannot produce: never asked for (members is empty)."""
-    return
-
-
-def _kernels(cases: Iterable[str], name: str, stub) -> tuple:
-    modules = load_compiled_cases(cases)
-    return tuple(
-        getattr(modules[case], name) if case in modules else stub
-        for case in sorted(generated.CASE_ID.values())
-    )
-
-
-def row_kernels(cases: Iterable[str]) -> tuple:
-    """(batch_rows of case id 0, 1, 2, 3): the Jacobian rows and biases, the generated loop of
-    each case of ``cases``, the stub for the others."""
-    return _kernels(cases, "batch_rows", no_rows)
-
-
-def frame_kernels(cases: Iterable[str]) -> tuple:
-    """(batch_all of case id 0, 1, 2, 3): gaps, rates, Jacobian rows and biases."""
-    return _kernels(cases, "batch_all", no_all)
-
-
-@njit
-def rows_by_case(k0, k1, k2, k3, q, v, case, body1, body2, geometry, static2, jac, bias):
-    """Jacobian rows and biases of every contact, each case by its batch_rows (row_kernels)."""
+def rows_by_case(q, v, case, body1, body2, geometry, static2, jac, bias):
+    """Jacobian rows and biases of every contact, each case by its generated batch_rows."""
     members = np.flatnonzero(case == 0)
     if members.size:
-        k0(q, v, body1, body2, geometry, static2, members, jac, bias)
+        vertex_edge.batch_rows(q, v, body1, body2, geometry, static2, members, jac, bias)
     members = np.flatnonzero(case == 1)
     if members.size:
-        k1(q, v, body1, body2, geometry, static2, members, jac, bias)
+        vertex_circle.batch_rows(q, v, body1, body2, geometry, static2, members, jac, bias)
     members = np.flatnonzero(case == 2)
     if members.size:
-        k2(q, v, body1, body2, geometry, static2, members, jac, bias)
+        circle_edge.batch_rows(q, v, body1, body2, geometry, static2, members, jac, bias)
     members = np.flatnonzero(case == 3)
     if members.size:
-        k3(q, v, body1, body2, geometry, static2, members, jac, bias)
+        circle_circle.batch_rows(q, v, body1, body2, geometry, static2, members, jac, bias)
 
 
 @njit
-def all_by_case(a0, a1, a2, a3, q, v, case, body1, body2, geometry, static2, gap, rate, jac, bias):
-    """d, d', Jacobian rows and biases of every contact, each case by its batch_all."""
+def all_by_case(q, v, case, body1, body2, geometry, static2, gap, rate, jac, bias):
+    """d, d', Jacobian rows and biases of every contact, each case by its generated batch_all."""
     members = np.flatnonzero(case == 0)
     if members.size:
-        a0(q, v, body1, body2, geometry, static2, members, gap, rate, jac, bias)
+        vertex_edge.batch_all(q, v, body1, body2, geometry, static2, members, gap, rate, jac, bias)
     members = np.flatnonzero(case == 1)
     if members.size:
-        a1(q, v, body1, body2, geometry, static2, members, gap, rate, jac, bias)
+        vertex_circle.batch_all(q, v, body1, body2, geometry, static2, members, gap, rate, jac,
+                                bias)  # fmt: skip
     members = np.flatnonzero(case == 2)
     if members.size:
-        a2(q, v, body1, body2, geometry, static2, members, gap, rate, jac, bias)
+        circle_edge.batch_all(q, v, body1, body2, geometry, static2, members, gap, rate, jac, bias)
     members = np.flatnonzero(case == 3)
     if members.size:
-        a3(q, v, body1, body2, geometry, static2, members, gap, rate, jac, bias)
+        circle_circle.batch_all(q, v, body1, body2, geometry, static2, members, gap, rate, jac,
+                                bias)  # fmt: skip

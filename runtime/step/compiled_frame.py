@@ -219,19 +219,18 @@ def _press(jac, body1, body2, inv_mass, fixed, modes, pressed, rate, limit, v, i
 
 @njit
 def settle_frame(
-    a0, a1, a2, a3, q, case, body1, body2, geometry, static2, held, recent, restitution, mass,
+    q, case, body1, body2, geometry, static2, held, recent, restitution, mass,
     inv_mass, fixed, free_acc, limits, tol, limit, rounds,
     v, gap, rate, jac, bias, modes, impulses, guess, forces, rates, acc, grouping,
 ):  # fmt: skip
-    """The frame at (q, v) (the kernels a0..a3: batch_all of each case, runtime.solve.
-    kernel_set.frame_kernels): rows, classify, the impacts, classify again, then the press/lift
-    rounds with the resting forces (the policy of runtime.step.classify and runtime.step.
+    """The frame at (q, v): rows (runtime.solve.kernel_set.all_by_case), classify, the impacts,
+    classify again, then the press/lift rounds with the resting forces (the policy of runtime.step.classify and runtime.step.
     resting). ``v`` becomes the velocities after the impulses; the other arrays after it are
     written, and ``grouping`` (see _forces) describes the resting contacts' islands. Returns
     (ok, the kinetic energy the impacts and presses took out)."""
     touch, hold, resting_speed, separation, creep = limits
     scratch_gap, scratch_rate = np.empty(gap.size), np.empty(gap.size)
-    all_by_case(a0, a1, a2, a3, q, v, case, body1, body2, geometry, static2, gap, rate, jac, bias)
+    all_by_case(q, v, case, body1, body2, geometry, static2, gap, rate, jac, bias)
     before = _kinetic(mass, fixed, v)
     classify_modes(gap, rate, touch, hold, resting_speed, separation, held, modes)
     approach = False
@@ -248,10 +247,6 @@ def settle_frame(
             if was_open[k]:
                 modes[k] = OPEN
         all_by_case(
-            a0,
-            a1,
-            a2,
-            a3,
             q,
             v,
             case,
@@ -301,7 +296,7 @@ def settle_frame(
             if not _press(jac, body1, body2, inv_mass, fixed, modes, target, rate, limit, v,
                           impulses):  # fmt: skip
                 return False, 0.0
-            all_by_case(a0, a1, a2, a3, q, v, case, body1, body2, geometry, static2,
+            all_by_case(q, v, case, body1, body2, geometry, static2,
                         scratch_gap, scratch_rate, jac, bias)  # fmt: skip
         if not _forces(jac, body1, body2, bias, inv_mass, fixed, free_acc, modes, guess, tol,
                        limit, forces, rates, acc, grouping):  # fmt: skip

@@ -22,18 +22,10 @@ from runtime.solve.kernel_set import rows_by_case
 
 METHOD_ID = {"euler": 0, "midpoint": 1, "rk4": 2}
 
-# Not cached on disk: these take the kernels as function arguments, and numba keys their cache
-# entries by the kernels' dispatcher objects, which differ in every process. So no process ever
-# found another's entry (each compiled afresh and appended one more: the index grew by ~400 KB a
-# run), and a process re-saving the index re-pickled the earlier entries, whose dispatchers it
-# no longer had once the garbage collector ran: `ReferenceError: underlying object has vanished`,
-# a traceback from `simulate` on a valid scene (found by bench/soak.py's interrupted writes).
-UNCACHED = {"cache": False}
 
-
-@njit(**UNCACHED)
+@njit
 def accelerations(
-    k0, k1, k2, k3, q, v, case, body1, body2, geometry, static2, offsets, guess,
+    q, v, case, body1, body2, geometry, static2, offsets, guess,
     inv_mass, fixed, free_acc, tol, limit, acc, forces, rates,
 ):  # fmt: skip
     """acc (n, 3) under the forces of the resting contacts (grouped by island, ``offsets``),
@@ -44,7 +36,7 @@ def accelerations(
         return True
     jac = np.zeros((m, 6))
     bias = np.zeros(m)
-    rows_by_case(k0, k1, k2, k3, q, v, case, body1, body2, geometry, static2, jac, bias)
+    rows_by_case(q, v, case, body1, body2, geometry, static2, jac, bias)
     if not (np.all(np.isfinite(jac)) and np.all(np.isfinite(bias))):
         return False
     ok = np.zeros(offsets.size - 1, np.bool_)
@@ -58,9 +50,9 @@ def accelerations(
     return True
 
 
-@njit(**UNCACHED)
+@njit
 def step(
-    k0, k1, k2, k3, method, q0, v0, h, a0, case, body1, body2, geometry, static2, offsets,
+    method, q0, v0, h, a0, case, body1, body2, geometry, static2, offsets,
     guess, inv_mass, fixed, free_acc, tol, limit, q_out, v_out,
 ):  # fmt: skip
     """(q_out, v_out) = one step of length h from (q0, v0) with first-stage accelerations a0;
@@ -76,7 +68,7 @@ def step(
     half = 0.5 * h
     a2 = np.empty_like(a0)
     v2 = v0 + half * a0
-    if not accelerations(k0, k1, k2, k3, q0 + half * v0, v2, *args, a2, forces, rates):
+    if not accelerations(q0 + half * v0, v2, *args, a2, forces, rates):
         return False
     if method == 1:
         q_out[:, :] = q0 + h * v2
@@ -84,11 +76,11 @@ def step(
         return True
     a3 = np.empty_like(a0)
     v3 = v0 + half * a2
-    if not accelerations(k0, k1, k2, k3, q0 + half * v2, v3, *args, a3, forces, rates):
+    if not accelerations(q0 + half * v2, v3, *args, a3, forces, rates):
         return False
     a4 = np.empty_like(a0)
     v4 = v0 + h * a3
-    if not accelerations(k0, k1, k2, k3, q0 + h * v3, v4, *args, a4, forces, rates):
+    if not accelerations(q0 + h * v3, v4, *args, a4, forces, rates):
         return False
     sixth = h / 6.0
     q_out[:, :] = q0 + sixth * (v0 + 2.0 * (v2 + v3) + v4)

@@ -38,9 +38,7 @@ from runtime.collide.features import features
 from runtime.compiled import Bound
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution, Stabilisation
 from runtime.solve.islands import body_islands, contact_islands
-from runtime.solve.kernel_set import frame_kernels, row_kernels
 from runtime.solve.rows import RowEvaluator, Rows
-from runtime.step import compiled_frame, compiled_stages
 from runtime.step.classify import LIFTING, RESTING, Bodies, Frame, Limits, make_frame, member
 from runtime.step.collision import Collision
 from runtime.step.events import EventSearch
@@ -115,8 +113,10 @@ class Stepper:
             settings.COMPILED and method in FIXED_STEP and stabilisation is None and not self.ovals
         )
         if self.compiled:
-            self.kernels = row_kernels(scene.contact_cases())
-            self.frame_kernels = frame_kernels(scene.contact_cases())
+            # imported here: they compile in every contact case (runtime/solve/kernel_set.py);
+            # the general path imports the kernels of the scene's cases only
+            from runtime.step import compiled_frame, compiled_stages
+
             self._step = Bound(compiled_stages.step)
             self._frame_call = Bound(compiled_frame.settle_frame)
             self._method_id = compiled_stages.METHOD_ID[method]
@@ -175,7 +175,7 @@ class Stepper:
         counts = np.zeros(2, np.int64)
         b = self.bodies
         ok, loss = self._frame_call(
-            *self.frame_kernels, q, contacts.case, contacts.body1, contacts.body2,
+            q, contacts.case, contacts.body1, contacts.body2,
             contacts.geometry, np.ascontiguousarray(self.fixed[contacts.body2]), held, recent,
             b.restitution, b.mass, b.inverse_mass, b.fixed, self.forces.free_acceleration,
             (limits.touch, limits.hold_gap, limits.resting_speed, limits.separation_speed,
@@ -257,12 +257,12 @@ class Stepper:
         """t -> the compiled step (runtime.step.compiled_stages), or None where it cannot."""
         c = problem.contacts
         args = (
-            *self.kernels, self._method_id, q, v, 0.0, a0, c.case, c.body1, c.body2,
+            self._method_id, q, v, 0.0, a0, c.case, c.body1, c.body2,
             c.geometry, np.ascontiguousarray(self.fixed[c.body2]), problem.offsets,
             problem.guess, self.forces.inverse_mass, self.fixed, self.forces.free_acceleration,
             settings.LCP_TOL, settings.DENSE_ISLAND,
         )  # fmt: skip
-        at = 7  # where h goes
+        at = 3  # where h goes
 
         def step(t: float):
             q_out, v_out = np.empty_like(q), np.empty_like(v)

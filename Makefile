@@ -6,6 +6,9 @@
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
+# the tests run in one process per core (pytest-xdist; whole files per process: their fixtures
+# are built once)
+TEST_WORKERS ?= auto
 DEMO ?= scenes/disc_in_bowl.toml
 
 .PHONY: all setup tex regenerate docs demo test pdf-check lint bench report soak mutate clean
@@ -44,7 +47,7 @@ demo: setup
 
 test: setup tex
 	$(VENV)/bin/regenerate-equations --check
-	$(VENV)/bin/pytest
+	$(VENV)/bin/pytest -n $(TEST_WORKERS) --dist loadfile
 	$(MAKE) --no-print-directory pdf-check
 
 # The document must build: compile it into a scratch copy (the committed PDF is not touched).

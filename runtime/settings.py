@@ -60,6 +60,9 @@ ROOT_GRID = 64  # points over a turn where the maximiser picks the best before i
 # (the global maximum's neighbourhood; as the previous narrow phase)
 WIDTH_DIRECTIONS = 180  # directions over a half turn for a shape's smallest width (exact
 # support per direction; the width is the depth limit of a plausible penetration)
+THICKNESS_RAYS = 16  # rays from a concave arc (a cup) into its material: the thinnest gives the
+# cup's depth limit (its hull's width would be the cup's depth); exact for a cup of uniform
+# thickness, whose every ray has the same length
 
 # -- contact forces (the LCP) ------------------------------------------------------------------
 # The solver works on the scaled problem S = D A D, D = diag(A)^-1/2 (unit diagonal: A in 1/kg,

@@ -1,6 +1,7 @@
 # make        : set up .venv, regenerate equations, code and docs, run a demo scene
 # make test   : set up .venv and run the tests (incl. the stale check and the PDF build)
-# make bench  : kernel, contact-finding and step benchmarks (bench/README.md); make report : work-precision report
+# make bench  : kernel, contact-finding, contact-force, step, target and ensemble benchmarks (bench/README.md)
+# make report : work-precision report against pymunk and Box2D (docs/report/)
 # make mutate : mutation testing (bench/mutants.py; ~20 min, not part of make test)
 VENV := .venv
 PY := $(VENV)/bin/python
@@ -64,7 +65,10 @@ lint: setup
 bench: setup
 	$(PY) -m bench.kernels
 	$(PY) -m bench.collide
+	$(PY) -m bench.lcp
 	$(PY) -m bench.steps
+	$(PY) -m bench.targets
+	$(PY) -m bench.ensemble
 
 report: setup
 	$(PY) -m pip install --quiet -e '.[dev,peers]'

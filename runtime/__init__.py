@@ -3,6 +3,7 @@
     scene = runtime.load_scene("scenes/disc_in_bowl.toml")
     run = runtime.simulate(scene, duration=10.0, dt=1e-3, method="rk4")
     run.t, run.poses, run.velocities, run.energy, run.contact_forces
+    ensemble = runtime.simulate_ensemble(scene, {"disc.angle": angles}, duration=1.0)  # N copies
 
 Submodules are imported on first use, so `runtime.lcp` loads only the solver.
 
@@ -24,6 +25,8 @@ _EXPORTS = {
     "Run": "runtime.step.simulation",
     "SimulationError": "runtime.step.world",
     "simulate": "runtime.step.simulation",
+    "simulate_ensemble": "runtime.step.ensemble",
+    "Ensemble": "runtime.step.ensemble",
     "World": "runtime.step.world",
     "Stabilisation": "runtime.solve.forces",
     "Guards": "runtime.step.guards",

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numba
 from numba.core.errors import NumbaExperimentalFeatureWarning
+from threadpoolctl import threadpool_limits
 
 ROOT = Path(__file__).resolve().parent.parent
 KEEP = 4  # cache folders kept (the newest), so switching between versions stays cheap
@@ -60,6 +61,14 @@ def _cache_folder() -> Path:
 
 CACHE_FOLDER = _cache_folder()
 numba.config.CACHE_DIR = str(CACHE_FOLDER)
+
+# One BLAS thread: the engine's matrices are small (an island's A, a few hundred rows at most),
+# where threads only add synchronisation -- on a shared 2-core machine a 92-row product took
+# 31 ms threaded against 0.15 ms on one thread (bench/README.md, Contact forces) -- and a
+# fixed thread count keeps sums in one order, so reruns stay bit-for-bit equal.
+import scipy.linalg  # noqa: E402, F401  (loads scipy's BLAS, which compiled code calls, first)
+
+threadpool_limits(1, user_api="blas")
 
 
 def njit(*args, **kwargs):

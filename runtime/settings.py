@@ -74,26 +74,45 @@ LCP_TOL = 1e-9  # relative, row by row: f solves the LCP if every |a_i| at a cla
 # themselves. Rounding of forming a_i is <= 2.2e-13 of that sum for 1000-row islands (and ~1e-16
 # typically), far below; a pile resting on such forces creeps by < 1e-9 of its weight's
 # acceleration.
+LCP_SHARP = 1e-12  # relative, like LCP_TOL: what the solver aims for -- pivoting drives every
+# row violated beyond it and a warm start must meet it to count as a hit; LCP_TOL decides
+# acceptance and which rows are held (a = 0) for the least-norm forces. Pivoting to LCP_TOL
+# would leave a row 1e-9 off in a near-redundant pair (Schur complement 1e-9), and with it a
+# force off by 100 %, unnoticed
+LCP_FLOOR = 1e-12  # relative to the largest scaled |b_i| or |f_i| (one unit for every row of
+# the scaled problem): added to every row's tolerance, for rows whose own terms are ~0 while b
+# carries rounding of terms that cancelled (a b_i of 1e-17 where 0 was meant) or forces on
+# an ill-conditioned clamped set do (cond 1e8: residuals ~3e-13 of the largest force seen)
 LCP_DEPENDENT = 1e-12  # relative to A_jj: a row whose Schur complement against the clamped rows
 # (its squared distance from their span in the metric of A) is below this depends on them
 # (a redundant contact); rounding leaves ~k * 1e-16 for a truly dependent row among k, while
 # a wedge as tight as the issue's 2 x 2 case (1 - 3e-11 coupling) still has 6e-11.
+LCP_REDUNDANT = 1e-6  # relative to A_jj: for the least-norm forces, a row this close to the
+# span of the others (1e-3 rad) counts as redundant if the forces still meet LCP_TOL -- a
+# near-redundant pair can otherwise carry huge opposed forces (39 N / 45 N where 3 N do) that
+# change a by less than the tolerance; if they miss it, only LCP_DEPENDENT rows count
+LCP_PIVOT_ROUNDING = 3.6e-15  # 16 eps: a pivot's rounding, times S_jj + sum_i row_i^2 S_ii /
+# L_ii^2 (runtime.solve.lcp_factor.trial); a pivot below it is indistinguishable from 0
 LCP_NOISE = 1e-12  # relative to max |Delta f|: entries of a pivoting direction (Delta f, and
 # Delta a of the unit-diagonal S) this small are rounding, not motion, and never limit a step
+LCP_SYMMETRY = 1e-8  # relative to sqrt(A_ii A_jj): input whose A_ij and A_ji differ by more
+# (or |A_ij| exceeds sqrt(A_ii A_jj), impossible for a PSD A) is refused; A = J M^-1 J^T
+# assembled in float64 is symmetric to ~1e-16
 LCP_ZERO_ROW = 1e-24  # relative to the largest A_ii: a row below it is one no force can move
 # (a contact between two fixed bodies); 1e-24 resolves any mass ratio up to 1e24
 LCP_LEAST_NORM_DONE = 1e-12  # relative to the size of its terms: the least-norm stage's
 # equations E f = g hold this well when its Newton method has converged (rounding: ~1e-15)
 LCP_LEAST_NORM_ENOUGH = 1e-9  # relative, as above: good enough when rounding stalls the Newton
 # method (ill-conditioned T); the forces still pass the LCP_TOL check or are not used
-LCP_LEAST_NORM_REGULAR = 1e-13  # relative to a row's curvature in the least-norm Newton
-# matrix: keeps it definite when a row is inactive, far below anything that changes the answer
+LCP_LEAST_NORM_REGULAR = 1e-14  # relative to a row's curvature: the proximal term of the
+# least-norm dual (runtime.solve.lcp_minnorm) -- keeps it bounded when rounding makes the
+# equations infeasible by ~1e-16, and biases the forces by ~1e-14 of themselves
 LCP_PGS_SWEEPS = 200  # projected Gauss-Seidel sweeps of the last fallback, from the best point
 # found, before its clamped set is solved exactly (it only has to find the set)
-LCP_DENSE_MAX = 96  # rows: islands up to this size use the compiled dense solver; larger
-# islands with a sparse A use the sparse path (bench/lcp.py: the dense one costs O(m^3) per
-# cold solve, the sparse one O(m * bandwidth^2))
-LCP_SPARSE_DENSITY = 0.1  # fraction of non-zeros above which a large island is solved dense
+LCP_DENSE_MAX = 64  # rows: islands up to this size use the compiled dense solver, larger ones
+# with a sparse A the sparse path: measured on resting piles, the sparse path's ~50 us of set-up
+# (ordering, scaling) beats the dense solver's O(m^3) from ~35 rows cold and ~60 rows warm
+LCP_SPARSE_DENSITY = 0.2  # fraction of non-zeros above which a large island is solved dense
 
 COMPILED = True  # use the compiled frame and integrator stages where they apply (small islands,
 # fixed-step methods); False runs every stage the general way (the same results to rounding)
@@ -124,8 +143,17 @@ GRAZE = 1e-6  # relative to TOUCH: a zero of d with d' = 0 that dips less than t
 FAST_PAIR = 0.25  # relative to the smaller body's half width: a pair that moves more than this
 # against each other within a step is watched by conservative advancement, not by a cubic fit of
 # its gap between the step's ends (a fit misses two discs passing through each other)
+DIP_SCREEN = 1.0  # relative to the Hermite cubic's variation over an interval (its larger end
+# value less its minimum): a contact open at both ends whose cubic's minimum is closer to 0 than
+# this is checked against the real gap (runtime.step.events.find_dip). The cubic's error is a
+# fraction (~(travel / size)^2) of that variation, so a minimum farther up cannot be a dip
+DIP_LEVELS = 8  # real-gap checks of one such interval, each narrowing it toward the real minimum
 ANGLE_WRAP = 1e3  # rad: angles beyond this are wrapped to (-pi, pi] between steps, so the
 # integrator keeps 1e-13 rad of resolution however long a body spins
+
+ENSEMBLE_GC_STEPS = 100  # steps: an ensemble collects Python's young garbage generations this
+# often, its automatic collection being off (full collections of 10,000 copies' per-contact
+# objects took half of each step; runtime.step.ensemble)
 
 # -- guards ------------------------------------------------------------------------------------
 
@@ -143,3 +171,10 @@ PROBE_SECONDS = 2.0  # s of wall time the probe may take at most (a slow scene s
 WARN_SECONDS = 600.0  # s: expected wall time above which the run is announced with a warning
 WARN_BYTES = 2e9  # bytes: expected memory for the recorded steps above which it warns (or half
 # the machine's memory if that is less)
+SWEEP_MAX_RUNS = 10**7  # runs: the largest grid a sweep accepts (its table alone is then ~1 GB)
+SWEEP_CHUNKS = 16  # chunks a sweep's grid is cut into by default: enough to keep a few workers
+# busy and to resume an interrupted sweep without redoing much, few enough that each chunk is a
+# sizeable ensemble (runtime.step.ensemble: the per-step cost is shared by its copies)
+SWEEP_MAX_CHUNK = (
+    256  # runs per chunk at most by default (a chunk's trajectories are held in memory)
+)

@@ -66,15 +66,20 @@ def feasible_b(A, f0, a0) -> np.ndarray:
     return a0 - A @ f0
 
 
-def row_violation(A, b, joint, f) -> tuple[np.ndarray, np.ndarray]:
-    """(violation, scale) per row: contacts: max(-f, -a, |a| if f > 0); joints: |a|; scale:
-    sum_j |A_ij f_j| + |b_i| (the solver's componentwise measure)."""
+def row_violation(A, b, joint, f) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(violation, scale, unit) per row: contacts: max(-f, -a, |a| if f > 0); joints: |a|;
+    scale: sum_j |A_ij f_j| + |b_i| (the solver's componentwise measure); unit: sqrt(A_ii)
+    max_j(|b_j| / sqrt(A_jj), |f_j| sqrt(A_jj)), the largest term in the units of row i (the
+    solver adds a tiny multiple of it to every row's tolerance)."""
     a = A @ f + b
     scale = np.abs(A) @ np.abs(f) + np.abs(b)
+    root = np.sqrt(np.diagonal(A))
+    live = root > 0
+    unit = root * max(np.max(np.abs(b[live]) / root[live], initial=0), np.max(np.abs(f) * root))
     held = joint | (f > 0)
     violation = np.where(held, np.abs(a), np.maximum(-a, 0.0))
     violation = np.where(~joint & (f < 0), np.maximum(violation, -f * np.diagonal(A)), violation)
-    return violation, scale
+    return violation, scale, unit
 
 
 def brute_force(A, b, joint, tol: float = 1e-9) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -105,28 +110,37 @@ def brute_force(A, b, joint, tol: float = 1e-9) -> list[tuple[np.ndarray, np.nda
 
 def least_norm_qp(A, b, joint, a, held_tol: float) -> np.ndarray:
     """min |f|^2 over the solutions with acceleration a: f = 0 where a_i > held_tol, A_PP f_P =
-    -b_P on the held rows P (reduced by SVD to independent equations E f = c), f >= 0 at
-    contacts. A least-distance problem (min |x| s.t. G x >= h), solved exactly by Lawson and
-    Hanson's reduction to non-negative least squares ("Solving Least Squares Problems", ch. 23):
-    u >= 0 minimising |[G^T; h^T] u - e_(n+1)| gives x = -r_(1..n) / r_(n+1), r the residual."""
+    -b_P on the held rows P, f >= 0 at contacts. By SVD, f = p + N z with p the pseudo-inverse
+    solution and N an orthonormal basis of A_PP's null space (p is orthogonal to it), so the
+    problem is min |z| s.t. N z >= -p at contacts: a least-distance problem, solved exactly by
+    Lawson and Hanson's reduction to non-negative least squares ("Solving Least Squares
+    Problems", ch. 23): u >= 0 minimising |[G^T; h^T] u - e| gives z = -r_(1..k) / r_(k+1).
+    Rows with A_ii = 0 must not be held (the tests' problems have none)."""
     P = joint | (np.abs(a) <= held_tol)
     idx = np.flatnonzero(P)
     f = np.zeros(len(b))
     if idx.size == 0:
         return f
     APP, bP = A[np.ix_(idx, idx)], b[idx]
-    U, s, _ = np.linalg.svd(APP)
-    r = int(np.sum(s > 1e-10 * s[0])) if s[0] > 0 else 0
-    E, c = U[:, :r].T @ APP, -U[:, :r].T @ bP
-    n = idx.size
-    bounds = np.eye(n)[~joint[idx]]
-    G = np.vstack([bounds, E, -E])
-    h = np.concatenate([np.zeros(len(bounds)), c, -c])
+    D = 1.0 / np.sqrt(np.diagonal(APP))  # rank decided on D A D (unit diagonal): any units
+    U, s, Vt = np.linalg.svd(D[:, None] * APP * D[None, :])
+    r = int(np.sum(s > 1e-10 * s[0]))
+    solution = D * (Vt[:r].T @ ((U[:, :r].T @ (-D * bP)) / s[:r]))
+    N, _ = np.linalg.qr(D[:, None] * Vt[r:].T)  # null(A_PP) = D null(D A D), orthonormalized
+    particular = solution - N @ (N.T @ solution)  # orthogonal to the null space
+    k = N.shape[1]
+    contact = ~joint[idx]
+    if k == 0 or not contact.any():
+        f[idx] = particular
+        return f
+    top = max(float(np.max(np.abs(particular))), 1e-300)  # the problem is homogeneous in p
+    slack = 64 * np.finfo(float).eps * s[0] / s[r - 1]  # p's rounding may cut off the bounds
+    G, h = N[contact], -particular[contact] / top - slack
     M = np.vstack([G.T, h[None, :]])
-    e = np.zeros(n + 1)
-    e[n] = 1.0
-    u, _ = nnls(M, e, maxiter=50 * M.shape[1])
+    e = np.zeros(k + 1)
+    e[k] = 1.0
+    u, _ = nnls(M, e, maxiter=100 * M.shape[1])
     residual = M @ u - e
-    assert abs(residual[n]) > 1e-12, "the least-distance problem is infeasible"
-    f[idx] = -residual[:n] / residual[n]
+    assert abs(residual[k]) > 1e-12, "the least-distance problem is infeasible"
+    f[idx] = particular + top * (N @ (-residual[:k] / residual[k]))
     return f

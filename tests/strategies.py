@@ -10,8 +10,10 @@ What is drawn (``drawn_scenes``):
 - a **scale** ``L`` from 1e-3 m to 1e3 m (six orders of magnitude): the largest body's size;
   the other bodies' sizes lie in ``[L / 10, L]``;
 - 1 .. ``max_bodies`` moving bodies: discs, convex polygons (3-8 corners on a circle),
-  rounded rectangles (corner radius 0, i.e. a plain rectangle, included) and half discs, at
-  random angles, densities 10 .. 1e4 kg/m^2, restitution 0 .. 1 (all 1 with ``elastic=True``);
+  rounded rectangles (corner radius 0, i.e. a plain rectangle, included), half discs and
+  ellipses (axis ratio 1 .. 5), at random angles (a quarter of them written up to 1e11 turns
+  further: the loader reduces them), densities 10 .. 1e4 kg/m^2 (``densities`` decades),
+  restitution 0 .. 1 (all 1 with ``elastic=True``);
 - speeds up to ``sqrt(g L)`` and spins up to ``sqrt(g / L)`` (a quarter of the bodies at rest);
 - an **environment**: a long floor (a wall) or an open box (``box_walls``), fixed;
 - a **layout** without overlap at t = 0: the bodies stand in columns, each either resting
@@ -38,12 +40,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from hypothesis import assume
 from hypothesis import strategies as st
 
+from runtime import settings
 from runtime.model import shapes as _shapes
 
 G = 9.81
-SHAPE_KINDS = ("disc", "polygon", "rounded_rect", "half_disc")
+SHAPE_KINDS = ("disc", "polygon", "rounded_rect", "half_disc", "ellipse")
 ENVIRONMENTS = ("floor", "box")
 METHODS = ("rk4", "rk4", "midpoint", "euler")  # drawn: rk4 twice as often
 TRAVEL = 0.1  # dt: a body moves at most this many half-widths of the thinnest body per step
@@ -55,6 +59,9 @@ OVERLAP_TOLERANCE = 1e-9  # times the half-width of the thinnest body
 # The bounds the properties assert (see check_run):
 ENERGY_BOUND = 1e-6  # E(t) - E(0) <= this x Drawn.energy_scale (no friction, restitution <= 1)
 PENETRATION_BOUND = 1e-3  # penetration <= this x the thinnest body's half-width
+EULER_PENETRATION = 1e-2  # the same for explicit Euler: its constraint drift is first order
+# (a disc resting on a tilting box sank 6.9e-3 half-widths at travel 0.1, half that at half
+# the step; midpoint 4.3e-5, RK4 3.4e-10)
 CONSERVATIVE_METHODS = ("rk4", "midpoint", "rk45", "dop853")  # exact for free fall; not Euler
 
 
@@ -80,7 +87,9 @@ class Drawn:
     def energy_scale(self) -> float:
         """Sum over the moving bodies of m (V^2 + g (height + L)): bounds |E| and its changes."""
         total = 0.0
-        for b in self.data["body"][1:]:
+        for b in self.data["body"]:
+            if b.get("fixed"):
+                continue
             shape = _build(b["shape"]["type"], b["shape"])
             mass = b["density"] * shape.area
             total += mass * (self.speed**2 + G * (self.height + self.scale))
@@ -98,6 +107,10 @@ def lowest_point(shape: _shapes.Shape, th: float) -> float:
     for e in shape.edges:
         if isinstance(e, _shapes.Segment):
             low = min(low, _rot(th, *e.start)[1], _rot(th, *e.end)[1])
+        elif isinstance(e, _shapes.Ellipse):  # support in -y of the turned ellipse
+            turn = th + e.angle
+            reach = math.hypot(e.a * math.sin(turn), e.b * math.cos(turn))
+            low = min(low, _rot(th, *e.centre)[1] - reach)
         else:  # a convex arc
             cy = _rot(th, *e.centre)[1]
             if e.contains_angle(-math.pi / 2 - th):
@@ -113,6 +126,8 @@ def _shape_table(kind: str, size: float, draw_params: tuple) -> dict[str, Any]:
         return {"type": "disc", "radius": size / 2}
     if kind == "half_disc":
         return {"type": "half_disc", "radius": size / 2}
+    if kind == "ellipse":
+        return {"type": "ellipse", "a": size / 2, "b": size / 2 * (0.2 + 0.8 * a)}
     if kind == "rounded_rect":
         width, height = size, size * (0.3 + 0.7 * a)
         corner = 0.0 if b < 0.2 else 0.5 * min(width, height) * (b - 0.2) / 0.8 * 0.999
@@ -139,7 +154,7 @@ _SIGNED = st.floats(-1.0, 1.0)
 
 
 @st.composite
-def _body(draw, *, elastic: bool | None) -> dict[str, Any]:
+def _body(draw, *, elastic: bool | None, densities: float = 3.0) -> dict[str, Any]:
     kind = draw(st.sampled_from(SHAPE_KINDS))
     n_corners = draw(st.integers(3, 8))
     params = (
@@ -153,7 +168,9 @@ def _body(draw, *, elastic: bool | None) -> dict[str, Any]:
         "params": params,
         "size": draw(st.floats(-1.0, 0.0)),  # log10 of size / L
         "angle": draw(st.floats(-math.pi, math.pi)),
-        "density": 10.0 ** draw(st.floats(1.0, 4.0)),
+        # a quarter of the bodies written N turns further, N up to 1e11 (the loader reduces)
+        "turns": round(10.0 ** draw(st.floats(3.0, 11.0))) if draw(st.integers(0, 3)) == 0 else 0,
+        "density": 10.0 ** draw(st.floats(1.0, 1.0 + densities)),
         "restitution": 1.0 if elastic else draw(st.sampled_from([0.0, 0.5, 1.0]) | _UNIT),
         "velocity": (draw(_SIGNED), draw(_SIGNED)),
         "spin": draw(_SIGNED),
@@ -169,6 +186,8 @@ def _half_width(shape: _shapes.Shape) -> float:
     """Half the smallest width of a convex shape (over 360 directions, exact enough here)."""
     pts: list = []
     for e in shape.edges:
+        if isinstance(e, _shapes.Ellipse):
+            return min(e.a, e.b)
         if isinstance(e, _shapes.Segment):
             pts += [e.start, e.end]
         else:
@@ -189,6 +208,7 @@ def drawn_scenes(
     steps: int | tuple[int, int] = (10, 40),
     log_scale: tuple[float, float] = (-3.0, 3.0),
     travel: float = TRAVEL,
+    densities: float = 3.0,
 ) -> Drawn:
     """A random valid scene with its characteristic numbers; see the module docstring.
 
@@ -196,12 +216,13 @@ def drawn_scenes(
     "box" or drawn; ``method``: an integrator name or drawn from rk4/midpoint/euler;
     ``steps``: the number of time steps of ``[simulation] duration`` (an int or a range);
     ``travel``: the largest distance a body may move in one step, in half-widths of the
-    thinnest body (sets dt)."""
+    thinnest body (sets dt); ``densities``: decades of density (10 .. 10^(1 + densities)
+    kg/m^2; 9 gives mass ratios beyond 1e9 with the sizes)."""
     scale = 10.0 ** draw(st.floats(*log_scale))
     env = environment or draw(st.sampled_from(ENVIRONMENTS))
     elastic = bool(elastic) if elastic is not None else draw(st.booleans())
     count = draw(st.integers(1, max_bodies))  # uniform (a list strategy favours short lists)
-    specs = [draw(_body(elastic=elastic)) for _ in range(count)]
+    specs = [draw(_body(elastic=elastic, densities=densities)) for _ in range(count)]
     n_steps = steps if isinstance(steps, int) else draw(st.integers(*steps))
     method = method or draw(st.sampled_from(METHODS))
 
@@ -220,7 +241,8 @@ def drawn_scenes(
         centred, offset = _build(kind, table).centred()
         thinnest = min(thinnest, _half_width(centred))
         reach = centred.bounding_radius  # about the centre of mass
-        th = spec["angle"]
+        written = spec["angle"] + 2.0 * math.pi * spec["turns"]
+        th = math.atan2(math.sin(written), math.cos(written))  # what the loader makes of it
         # a body goes on top of the last column only if it is no wider than that column's base
         if not columns or spec["new_column"] or reach > columns[-1][2]:
             x = x_cursor + (reach if columns else 0.0) + GAP * spec["gap"] * size
@@ -246,7 +268,7 @@ def drawn_scenes(
                 "shape": table,
                 "density": spec["density"],
                 "position": [x - ox, y - oy],
-                "angle": th,
+                "angle": written,
                 "velocity": list(origin_v),
                 "angular_velocity": w,
                 "restitution": spec["restitution"],
@@ -285,6 +307,102 @@ def drawn_scenes(
     }
     box_half = math.inf if env == "floor" else half
     return Drawn(data, scale, thinnest, dt, bound, top, env, box_half, elastic)
+
+
+@st.composite
+def moving_pairs(
+    draw,
+    *,
+    max_bodies: int = 3,
+    elastic: bool | None = None,
+    travel: float | tuple[float, ...] = (0.5, 2.0, 8.0),
+    densities: float = 9.0,
+    log_scale: tuple[float, float] = (-4.0, 4.0),
+    max_steps: int = 60,
+) -> Drawn:
+    """2 .. ``max_bodies`` bodies flying at each other in empty space (no gravity, no fixed
+    body), fast: each step moves the fastest point ``travel`` half-widths of the thinnest body
+    (drawn from the values given; > 1: pairs pass through each other between two steps unless
+    the impact search samples them). Sizes ``L / 10 .. L`` with L from 10^log_scale m, speeds
+    0.1 .. 1000 body sizes per second (at least 10x the resting speed, so impacts bounce)
+    aimed at the bodies' centroid with a miss of up to half the pair's size (so some hit
+    off-centre or graze), spins up to the speed over the reach, restitution as
+    :func:`drawn_scenes` (``elastic``),
+    densities over ``densities`` decades (mass ratios beyond 1e9), shapes and large angles as
+    :func:`drawn_scenes`. Laid out along a random zig-zag, bounding circles apart. With no
+    external force, momentum and angular momentum are conserved exactly and energy never
+    grows (:func:`check_conservation`)."""
+    scale = 10.0 ** draw(st.floats(*log_scale))
+    count = draw(st.integers(2, max_bodies))
+    specs = [draw(_body(elastic=elastic, densities=densities)) for _ in range(count)]
+    step_travel = travel if isinstance(travel, float) else draw(st.sampled_from(travel))
+    speed = max(scale * 10.0 ** draw(st.floats(-1.0, 3.0)), 10.0 * settings.RESTING_SPEED)
+    bodies: list[dict[str, Any]] = []
+    placed: list[tuple[float, float, float]] = []  # (x, y, reach) of each centre of mass
+    thinnest, bound = math.inf, 0.0
+    for k, spec in enumerate(specs):
+        size = scale * (1.0 if k == 0 else 10.0 ** spec["size"])
+        kind = spec["kind"]
+        table = _shape_table(kind, size, spec["params"])
+        centred, offset = _build(kind, table).centred()
+        thinnest = min(thinnest, _half_width(centred))
+        reach = centred.bounding_radius
+        x, y = 0.0, 0.0
+        if placed:
+            px, py, preach = placed[-1]
+            heading = 2.0 * math.pi * draw(_UNIT)
+            distance = preach + reach + scale * (0.05 + 3.0 * spec["gap"])
+            x, y = px + distance * math.cos(heading), py + distance * math.sin(heading)
+            if any(math.hypot(x - qx, y - qy) <= reach + qr for qx, qy, qr in placed):
+                x, y = (
+                    px + distance * math.cos(heading + math.pi),
+                    py - distance * math.sin(heading),
+                )
+                assume(all(math.hypot(x - qx, y - qy) > reach + qr for qx, qy, qr in placed))
+        placed.append((x, y, reach))
+        bodies.append((spec, table, offset, reach, x, y))
+    cx = sum(b[4] for b in bodies) / count
+    cy = sum(b[5] for b in bodies) / count
+    data_bodies = []
+    for k, (spec, table, offset, reach, x, y) in enumerate(bodies):
+        dx, dy = cx - x, cy - y
+        norm = math.hypot(dx, dy) or 1.0
+        miss = 0.5 * spec["velocity"][1]  # of the aim, sideways
+        v = speed * (0.2 + 0.8 * abs(spec["velocity"][0]))
+        vx = v * (dx - miss * dy) / norm
+        vy = v * (dy + miss * dx) / norm
+        w = spec["spin"] * v / reach
+        bound = max(bound, math.hypot(vx, vy) + abs(w) * reach)
+        written = spec["angle"] + 2.0 * math.pi * spec["turns"]
+        th = math.atan2(math.sin(written), math.cos(written))
+        ox, oy = _rot(th, *offset)
+        data_bodies.append(
+            {
+                "name": f"{spec['kind']}{k + 1}",
+                "shape": table,
+                "density": spec["density"],
+                "position": [x - ox, y - oy],
+                "angle": written,
+                "velocity": [vx + w * oy, vy - w * ox],
+                "angular_velocity": w,
+                "restitution": spec["restitution"],
+            }
+        )
+    bound *= 3.0  # a light body hit by a heavy one leaves at up to twice its speed, plus its own
+    dt = step_travel * thinnest / bound
+    spread = max(math.hypot(x - cx, y - cy) + r for x, y, r in placed)
+    steps = max(4, min(max_steps, math.ceil(3.0 * spread / (speed * 0.2) / dt)))
+    data = {
+        "scene": {
+            "name": f"fuzz-space-{count}",
+            "gravity": [0.0, 0.0],
+            "contact_tolerance": CONTACT_TOLERANCE * thinnest,
+            "overlap_tolerance": OVERLAP_TOLERANCE * thinnest,
+        },
+        "simulation": {"duration": steps * dt, "dt": dt, "method": "rk4"},
+        "body": data_bodies,
+    }
+    return Drawn(data, scale, thinnest, dt, bound, 0.0, "space", math.inf, bool(elastic))
 
 
 def scenes(**kwargs: Any) -> st.SearchStrategy[dict[str, Any]]:
@@ -359,6 +477,7 @@ KINDS = {
     "energy": f"energy grew by more than {ENERGY_BOUND:g} x the energy scale",
     "penetration": f"penetration deeper than {PENETRATION_BOUND:g} x the thinnest half-width",
     "escaped": "a body's centre of mass left the floor's or box's free side",
+    "momentum": "linear or angular momentum changed in empty space (no external force)",
 }
 _STEP_MESSAGE = re.compile(r"^step \d+ at t = \S+ s ")
 
@@ -372,9 +491,12 @@ class Report:
     run: Any = None
     error: BaseException | None = None
     problems: dict[str, list[str]] = field(default_factory=dict)
+    beyond: set[str] = field(default_factory=set)  # kinds past what the engine's guards catch
 
-    def add(self, kind: str, detail: str) -> None:
+    def add(self, kind: str, detail: str, beyond_guards: bool = False) -> None:
         self.problems.setdefault(kind, []).append(detail)
+        if beyond_guards:
+            self.beyond.add(kind)
 
     def failures(self, *ignore: str) -> dict[str, list[str]]:
         """The problems but those of the kinds ``ignore``."""
@@ -476,14 +598,22 @@ def check_run(report: Report) -> None:
                 "energy",
                 f"E grew by {growth:.3g} J = {growth / drawn.energy_scale:.3g} x the energy "
                 f"scale at t = {arrays['t'][k]:.6g} s (step {k})",
+                growth > settings.ENERGY_GROWTH_LIMIT * _guard_energy_scale(scene),
             )
-    depth, k, what = deepest_penetration(scene, run.poses, PENETRATION_BOUND * drawn.thinnest)
-    if depth > PENETRATION_BOUND * drawn.thinnest:
+    euler = scene.simulation.method == "euler"
+    bound = (EULER_PENETRATION if euler else PENETRATION_BOUND) * drawn.thinnest
+    depth, k, what, pair = _deepest(scene, run.poses, bound)
+    if depth > bound:
+        size = min(scene.shapes[i].bounding_radius for i in pair)
         report.add(
             "penetration",
             f"{what} by {depth:.3g} m = {depth / drawn.thinnest:.3g} half-widths at "
             f"t = {arrays['t'][k]:.6g} s (step {k})",
+            depth > settings.PENETRATION_LIMIT * size,
         )
+    if drawn.environment == "space":
+        check_conservation(report)
+        return
     moving = ~np.asarray(scene.fixed, dtype=bool)
     centres = arrays["poses"][:, moving, :2]
     below = centres[..., 1] < -PENETRATION_BOUND * drawn.thinnest
@@ -491,24 +621,76 @@ def check_run(report: Report) -> None:
     if np.any(below | outside):
         k, b = (int(i[0]) for i in np.nonzero(below | outside))
         name = [body.name for body in scene.bodies if not body.fixed][b]
-        report.add("escaped", f"{name!r} at {centres[k, b].tolist()} at t = {arrays['t'][k]:.6g} s")
+        report.add(
+            "escaped", f"{name!r} at {centres[k, b].tolist()} at t = {arrays['t'][k]:.6g} s", True
+        )
+
+
+MOMENTUM_BOUND = 1e-9  # relative change of linear momentum in empty space (a linear invariant:
+# impulses and forces are equal and opposite, and Runge-Kutta methods keep linear invariants)
+ANGULAR_BOUND = 1e-6  # relative change of angular momentum (quadratic in the state: RK4 keeps it
+# to its truncation error while contact forces act, as the energy, ENERGY_BOUND)
+
+
+def check_conservation(report: Report) -> None:
+    """Linear momentum and angular momentum about the origin stay what they were, to
+    MOMENTUM_BOUND and ANGULAR_BOUND of their scales (sums over the bodies of m |v| and of
+    m |r x v| + I |w|, the largest over the run): contacts act equal and opposite at a point."""
+    scene, run = report.scene, report.run
+    mass = np.array([b.mass for b in scene.bodies])
+    inertia = np.array([b.inertia for b in scene.bodies], dtype=float)
+    q, v = np.asarray(run.poses), np.asarray(run.velocities)
+    p = np.einsum("b,kbc->kc", mass, v[:, :, :2])
+    moment = mass * (q[:, :, 0] * v[:, :, 1] - q[:, :, 1] * v[:, :, 0]) + inertia * v[:, :, 2]
+    p_scale = np.max(np.sum(mass * np.hypot(v[:, :, 0], v[:, :, 1]), axis=1))
+    l_scale = np.max(
+        np.sum(
+            mass * np.hypot(q[:, :, 0], q[:, :, 1]) * np.hypot(v[:, :, 0], v[:, :, 1])
+            + inertia * np.abs(v[:, :, 2]),
+            axis=1,
+        )
+    )
+    dp = float(np.max(np.hypot(*(p - p[0]).T)))
+    dl = float(np.max(np.abs(moment.sum(axis=1) - moment[0].sum())))
+    if dp > MOMENTUM_BOUND * p_scale or dl > ANGULAR_BOUND * l_scale:
+        report.add(
+            "momentum",
+            f"momentum changed by {dp / p_scale:.3g}, angular momentum by {dl / l_scale:.3g} "
+            f"of their scales ({len(run.impact_times)} impacts)",
+            True,  # no guard watches momentum
+        )
 
 
 def deepest_penetration(scene: Any, poses_list: Any, bound: float) -> tuple[float, int, str]:
     """The deepest overlap over the recorded poses: the engine's own contacts (exact gaps,
     tolerance 0) and, since those leave out implausibly deep ones, sampled boundary points
     of one body inside another (runtime/scene_overlap.py). ``(depth, step, description)``."""
+    return _deepest(scene, poses_list, bound)[:3]
+
+
+def _deepest(scene: Any, poses_list: Any, bound: float) -> tuple[float, int, str, tuple]:
+    """:func:`deepest_penetration` and the pair of bodies (scene indices)."""
     from runtime.io.scene_overlap import deepest_overlap
 
-    worst = (0.0, 0, "")
+    worst: tuple = (0.0, 0, "", (0, 0))
     for k, poses in enumerate(poses_list):
         found = scene.contacts(poses, tolerance=0.0)
         for c, gap in enumerate(found.gap.tolist()):
             if -gap > worst[0]:
-                names = scene.bodies[found.body1[c]].name, scene.bodies[found.body2[c]].name
-                worst = (-gap, k, f"{found.case_name(c)} contact {names[0]}/{names[1]}")
+                pair = int(found.body1[c]), int(found.body2[c])
+                names = scene.bodies[pair[0]].name, scene.bodies[pair[1]].name
+                worst = (-gap, k, f"{found.case_name(c)} contact {names[0]}/{names[1]}", pair)
         deep = deepest_overlap(scene.shapes, poses, scene.fixed, max(bound, worst[0]))
         if deep is not None and deep[2] > worst[0]:
             names = scene.bodies[deep[0]].name, scene.bodies[deep[1]].name
-            worst = (deep[2], k, f"{names[0]} inside {names[1]} (sampled)")
+            worst = (deep[2], k, f"{names[0]} inside {names[1]} (sampled)", deep[:2])
     return worst
+
+
+def _guard_energy_scale(scene: Any) -> float:
+    """The energy scale the engine's energy guard measures growth in (runtime.step.guards)."""
+    from runtime.step.guards import energy_scale
+    from runtime.step.world import kinetic_energy
+
+    radii = np.array([s.bounding_radius for s in scene.shapes], dtype=float)
+    return energy_scale(scene, radii, kinetic_energy(scene, scene.velocities()))

@@ -127,13 +127,33 @@ def check_pip(argv: list[str], tmp_path: Path) -> None:
             assert extra in extras, f"{shlex.join(argv)}: no extra {extra!r} in pyproject.toml"
 
 
-RULES = {"make": check_make, "simulate": check_simulate, "regenerate-equations": check_regenerate}
+def check_sweep(argv: list[str], tmp_path: Path) -> None:
+    """A sweep starts worker processes and runs for a while (tests/app/test_sweep.py runs it):
+    here its options must be among those --help lists, and its --vary values must parse."""
+    from runtime.app.sweep_grid import parse_vary
+
+    help_text = _run([sys.executable, "-m", "runtime.app.sweep", "--help"], ROOT).stdout
+    for k, arg in enumerate(argv):
+        if arg.startswith("--"):
+            assert arg in help_text, f"{shlex.join(argv)}: {arg} is not an option"
+        if arg == "--vary":
+            parse_vary(argv[k + 1])
+
+
+RULES = {
+    "make": check_make,
+    "simulate": check_simulate,
+    "regenerate-equations": check_regenerate,
+    "sweep": check_sweep,
+}
 
 
 @pytest.mark.parametrize("line", commands())
 def test_command_exists_or_runs(line, tmp_path):
     argv = shlex.split(line)
-    if argv[:3] == ["python", "-m", "runtime"]:
+    if argv[:3] == ["python", "-m", "runtime.app.sweep"]:
+        check_sweep(argv, tmp_path)
+    elif argv[:3] == ["python", "-m", "runtime"]:
         argv[0] = sys.executable
         check_simulate(argv, tmp_path)
     elif argv[:2] == ["pip", "install"]:

@@ -5,7 +5,9 @@ templates/kernel_module_compiled.py.j2; `regenerate-equations --check` fails whe
 The same expressions as generated/circle_circle.py (the NumPy kernels, the public API), for
 scalars and compiled by numba: positional arguments in the order of ARGUMENTS, no `del` (numba
 has none), and batch loops that read the state from (n, 3) pose and velocity arrays, so the
-engine evaluates many contacts in one compiled call.
+engine evaluates many contacts in one compiled call. Division by zero gives inf or NaN as in
+the NumPy kernels (numba's "numpy" error model), not ZeroDivisionError: d' of two coincident
+circle centres is undefined, and the engine decides what to do with a non-finite value.
 
 Geometry columns (`geometry[k, c]`): cx1 -> 0, cy1 -> 1, r1 -> 2, cx2 -> 3, cy2 -> 4, r2 -> 5.
 """
@@ -134,7 +136,7 @@ ARGUMENTS = {
 }
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap(x1, y1, th1, x2, y2, th2, cx1, cy1, r1, cx2, cy2, r2):
     """Gap d (> 0 separated). Returns d."""
     e0 = np.cos(th1)
@@ -150,7 +152,7 @@ def gap(x1, y1, th1, x2, y2, th2, cx1, cy1, r1, cx2, cy2, r2):
     return -r1 - r2 + sg2 * v_len
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_velocity(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, cx1, cy1, cx2, cy2, r2):
     """Exact d' for any state. Returns d1."""
     e0 = np.sin(th2)
@@ -173,7 +175,7 @@ def gap_velocity(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, cx1, cy1,
     return sg2 * (v_x * v_x_t + v_y * v_y_t) / v_len
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_acceleration(
     x1,
     y1,
@@ -230,7 +232,7 @@ def gap_acceleration(
     return sg2 * (e13 * v_tan * v_tan + e13 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def jacobian(x1, y1, th1, x2, y2, th2, cx1, cy1, cx2, cy2, r2):
     """Jacobian row of the gap: the A-matrix lever terms. Returns j1x, j1y, j1th, j2x, j2y, j2th."""
     e0 = np.sin(th2)
@@ -262,7 +264,7 @@ def jacobian(x1, y1, th1, x2, y2, th2, cx1, cy1, cx2, cy2, r2):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def bias(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, cx1, cy1, cx2, cy2, r2):
     """Velocity-dependent part of d'': the b-vector term. Returns b."""
     e0 = np.sin(th2)
@@ -294,7 +296,7 @@ def bias(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, cx1, cy1, cx2, cy
     return sg2 * (e12 * v_tan * v_tan + e12 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_velocity_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, cx1, cy1, cx2, cy2, r2):
     """Exact d' with body 2 fixed. Returns d1."""
     e0 = np.sin(th2)
@@ -314,7 +316,7 @@ def gap_velocity_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, cx1, cy1, cx2, 
     return sg2 * (v_x * v_x_t + v_y * v_y_t) / v_len
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_acceleration_static2(
     x1, y1, th1, vx1, vy1, w1, ax1, ay1, al1, x2, y2, th2, cx1, cy1, cx2, cy2, r2
 ):
@@ -342,7 +344,7 @@ def gap_acceleration_static2(
     return sg2 * (e7 * v_tan * v_tan + e7 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def jacobian_static2(x1, y1, th1, x2, y2, th2, cx1, cy1, cx2, cy2, r2):
     """Body-1 Jacobian row with body 2 fixed. Returns j1x, j1y, j1th."""
     e0 = np.sin(th2)
@@ -361,7 +363,7 @@ def jacobian_static2(x1, y1, th1, x2, y2, th2, cx1, cy1, cx2, cy2, r2):
     return e6 * v_x, e6 * v_y, e6 * (e4 * v_y - e5 * v_x)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def bias_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, cx1, cy1, cx2, cy2, r2):
     """b-vector term with body 2 fixed. Returns b."""
     e0 = np.sin(th2)
@@ -387,7 +389,7 @@ def bias_static2(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, cx1, cy1, cx2, cy2, r2)
     return sg2 * (e7 * v_tan * v_tan + e7 * (v_x * v_x_tt + v_y * v_y_tt))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_gap(poses, body1, body2, geometry, members, out):
     """out[k] = d of contact k, for k in members."""
     for k in members:
@@ -409,7 +411,7 @@ def batch_gap(poses, body1, body2, geometry, members, out):
         )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_gap_velocity(poses, velocities, body1, body2, geometry, static2, members, out):
     """out[k] = d' of contact k, for k in members (static2[k]: body 2 fixed)."""
     for k in members:
@@ -454,7 +456,7 @@ def batch_gap_velocity(poses, velocities, body1, body2, geometry, static2, membe
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_rows(poses, velocities, body1, body2, geometry, static2, members, jacobian_out, bias_out):
     """Jacobian row (6 numbers, body 1 then body 2) and bias of contact k, for k in members."""
     for k in members:

@@ -5,7 +5,9 @@ templates/kernel_module_compiled.py.j2; `regenerate-equations --check` fails whe
 The same expressions as generated/circle_edge.py (the NumPy kernels, the public API), for
 scalars and compiled by numba: positional arguments in the order of ARGUMENTS, no `del` (numba
 has none), and batch loops that read the state from (n, 3) pose and velocity arrays, so the
-engine evaluates many contacts in one compiled call.
+engine evaluates many contacts in one compiled call. Division by zero gives inf or NaN as in
+the NumPy kernels (numba's "numpy" error model), not ZeroDivisionError: d' of two coincident
+circle centres is undefined, and the engine decides what to do with a non-finite value.
 
 Geometry columns (`geometry[k, c]`): cx1 -> 0, cy1 -> 1, r1 -> 2, ex2 -> 3, ey2 -> 4, nx2 -> 5, ny2 -> 6.
 """
@@ -100,7 +102,7 @@ ARGUMENTS = {
 }
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap(x1, y1, th1, x2, y2, th2, cx1, cy1, r1, ex2, ey2, nx2, ny2):
     """Gap d (> 0 separated). Returns d."""
     e0 = np.cos(th2)
@@ -116,7 +118,7 @@ def gap(x1, y1, th1, x2, y2, th2, cx1, cy1, r1, ex2, ey2, nx2, ny2):
     return n_x * v_x + n_y * v_y - r1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_velocity(
     x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, cx1, cy1, ex2, ey2, nx2, ny2
 ):
@@ -145,7 +147,7 @@ def gap_velocity(
     return n_x * v_x_t + n_x_t * v_x + n_y * v_y_t + n_y_t * v_y
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_acceleration(
     x1,
     y1,
@@ -215,7 +217,7 @@ def gap_acceleration(
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def jacobian(x1, y1, th1, x2, y2, th2, cx1, cy1, ex2, ey2, nx2, ny2):
     """Jacobian row of the gap: the A-matrix lever terms. Returns j1x, j1y, j1th, j2x, j2y, j2th."""
     e0 = np.cos(th2)
@@ -246,7 +248,7 @@ def jacobian(x1, y1, th1, x2, y2, th2, cx1, cy1, ex2, ey2, nx2, ny2):
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def bias(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, cx1, cy1, ex2, ey2, nx2, ny2):
     """Velocity-dependent part of d'': the b-vector term. Returns b."""
     e0 = np.cos(th2)
@@ -290,7 +292,7 @@ def bias(x1, y1, th1, vx1, vy1, w1, x2, y2, th2, vx2, vy2, w2, cx1, cy1, ex2, ey
     )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_velocity_static2(th1, vx1, vy1, w1, th2, cx1, cy1, nx2, ny2):
     """Exact d' with body 2 fixed. Returns d1."""
     e0 = np.cos(th2)
@@ -304,7 +306,7 @@ def gap_velocity_static2(th1, vx1, vy1, w1, th2, cx1, cy1, nx2, ny2):
     return n_x * v_x_t + n_y * v_y_t
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def gap_acceleration_static2(th1, w1, ax1, ay1, al1, th2, cx1, cy1, nx2, ny2):
     """Exact d'' with body 2 fixed. Returns d2."""
     e0 = np.cos(th2)
@@ -321,7 +323,7 @@ def gap_acceleration_static2(th1, w1, ax1, ay1, al1, th2, cx1, cy1, nx2, ny2):
     return n_x * v_x_tt + n_y * v_y_tt
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def jacobian_static2(th1, th2, cx1, cy1, nx2, ny2):
     """Body-1 Jacobian row with body 2 fixed. Returns j1x, j1y, j1th."""
     e0 = np.cos(th2)
@@ -333,7 +335,7 @@ def jacobian_static2(th1, th2, cx1, cy1, nx2, ny2):
     return n_x, n_y, -n_x * (cx1 * e2 + cy1 * e3) + n_y * (cx1 * e3 - cy1 * e2)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def bias_static2(th1, w1, th2, cx1, cy1, nx2, ny2):
     """b-vector term with body 2 fixed. Returns b."""
     e0 = np.cos(th2)
@@ -348,7 +350,7 @@ def bias_static2(th1, w1, th2, cx1, cy1, nx2, ny2):
     return n_x * v_x_tt + n_y * v_y_tt
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_gap(poses, body1, body2, geometry, members, out):
     """out[k] = d of contact k, for k in members."""
     for k in members:
@@ -371,7 +373,7 @@ def batch_gap(poses, body1, body2, geometry, members, out):
         )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_gap_velocity(poses, velocities, body1, body2, geometry, static2, members, out):
     """out[k] = d' of contact k, for k in members (static2[k]: body 2 fixed)."""
     for k in members:
@@ -412,7 +414,7 @@ def batch_gap_velocity(poses, velocities, body1, body2, geometry, static2, membe
             )
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def batch_rows(poses, velocities, body1, body2, geometry, static2, members, jacobian_out, bias_out):
     """Jacobian row (6 numbers, body 1 then body 2) and bias of contact k, for k in members."""
     for k in members:

@@ -28,7 +28,7 @@ import time
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
-__all__ = ["OutputDir", "OutputError"]
+__all__ = ["FolderLock", "OutputDir", "OutputError"]
 
 
 class OutputError(Exception):
@@ -77,10 +77,10 @@ class OutputDir:
         self.force = force
         self.owned = set(owned)
         name = self.target.name or "out"
-        self.lock_path = self.target.parent / f".{name}.lock"
+        self.lock = FolderLock(self.target, "simulate run")
+        self.lock_path = self.lock.path
         self.staging = self.target.parent / f".{name}.partial-{os.getpid()}"
         self.stale_lock: str | None = None  # who held the lock we took over, if anyone
-        self._fd: int | None = None
 
     # -- before the run ---------------------------------------------------------------------
 
@@ -93,7 +93,8 @@ class OutputDir:
                 f"cannot create the folder {str(self.target.parent)!r} for the output "
                 f"{str(self.target)!r}: {_reason(exc)}"
             ) from None
-        self._lock()
+        self.lock.acquire()
+        self.stale_lock = self.lock.stale
         try:
             self._remove_stale_staging()
             self._check_writable()
@@ -127,47 +128,6 @@ class OutputDir:
                     f"output directory {str(out)!r} is not empty; use --force to overwrite "
                     "its files"
                 )
-
-    def _lock(self) -> None:
-        """Take the folder's lock, or raise naming the run that holds it."""
-        while True:
-            try:
-                fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
-            except OSError as exc:
-                raise OutputError(
-                    f"cannot create the lock file {str(self.lock_path)!r} for the output "
-                    f"{str(self.target)!r}: {_reason(exc)}"
-                ) from None
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError as exc:
-                holder = _read(fd)
-                os.close(fd)
-                if exc.errno not in (errno.EAGAIN, errno.EACCES):
-                    raise OutputError(
-                        f"cannot lock {str(self.lock_path)!r}: {_reason(exc)}"
-                    ) from None
-                raise OutputError(
-                    f"output {str(self.target)!r} is in use by another simulate run "
-                    f"({_describe(holder)}); wait for it or choose another --out "
-                    f"(lock file {str(self.lock_path)!r})"
-                ) from None
-            # The holder before us may have removed the file after we opened it: then our lock
-            # is on a file nobody else sees; start again.
-            try:
-                same = os.stat(self.lock_path).st_ino == os.fstat(fd).st_ino
-            except FileNotFoundError:
-                same = False
-            if not same:
-                os.close(fd)
-                continue
-            previous = _read(fd)
-            self.stale_lock = _describe(previous) if previous else None
-            os.ftruncate(fd, 0)
-            record = {"pid": os.getpid(), "host": socket.gethostname(), "started": time.time()}
-            os.pwrite(fd, (json.dumps(record) + "\n").encode(), 0)
-            self._fd = fd
-            return
 
     def _remove_stale_staging(self) -> None:
         """Staging folders of runs that died (we hold the lock: no live run owns one)."""
@@ -215,9 +175,65 @@ class OutputDir:
     def close(self) -> None:
         """Remove the staging folder (an interrupted run's files) and release the lock."""
         shutil.rmtree(self.staging, ignore_errors=True)
+        self.lock.release()
+
+
+class FolderLock:
+    """The lock of an output folder: a file ``.<name>.lock`` beside it, locked with ``flock``
+    and holding the owner's pid, host and start time, so a second writer (``user``: what the
+    message calls it, e.g. "simulate run") is refused naming the first; a lock left by a
+    process that died is free again and is taken over (``stale`` then describes it)."""
+
+    def __init__(self, target: Path, user: str) -> None:
+        self.target, self.user = Path(target), user
+        self.path = self.target.parent / f".{self.target.name or 'out'}.lock"
+        self.stale: str | None = None
+        self._fd: int | None = None
+
+    def acquire(self) -> None:
+        """Take the folder's lock, or raise naming the run that holds it."""
+        while True:
+            try:
+                fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+            except OSError as exc:
+                raise OutputError(
+                    f"cannot create the lock file {str(self.path)!r} for the output "
+                    f"{str(self.target)!r}: {_reason(exc)}"
+                ) from None
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError as exc:
+                holder = _read(fd)
+                os.close(fd)
+                if exc.errno not in (errno.EAGAIN, errno.EACCES):
+                    raise OutputError(f"cannot lock {str(self.path)!r}: {_reason(exc)}") from None
+                raise OutputError(
+                    f"output {str(self.target)!r} is in use by another {self.user} "
+                    f"({_describe(holder)}); wait for it or choose another --out "
+                    f"(lock file {str(self.path)!r})"
+                ) from None
+            # The holder before us may have removed the file after we opened it: then our lock
+            # is on a file nobody else sees; start again.
+            try:
+                same = os.stat(self.path).st_ino == os.fstat(fd).st_ino
+            except FileNotFoundError:
+                same = False
+            if not same:
+                os.close(fd)
+                continue
+            previous = _read(fd)
+            self.stale = _describe(previous) if previous else None
+            os.ftruncate(fd, 0)
+            record = {"pid": os.getpid(), "host": socket.gethostname(), "started": time.time()}
+            os.pwrite(fd, (json.dumps(record) + "\n").encode(), 0)
+            self._fd = fd
+            return
+
+    def release(self) -> None:
+        """Unlock and remove the lock file (if we hold it)."""
         if self._fd is not None:
             with contextlib.suppress(OSError):
-                self.lock_path.unlink()
+                self.path.unlink()
             os.close(self._fd)
             self._fd = None
 

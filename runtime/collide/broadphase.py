@@ -5,6 +5,11 @@ Each body's bounding circle (about its centre of mass) is widened by its reach (
 pair tolerance plus its own margin); the circles are sorted by their lower end along the axis
 on which the centres spread most and swept, so the cost is about linear in the number of
 bodies plus pairs.  Pairs of two fixed bodies are skipped (they never move).
+
+Collision groups (:func:`sweep_groups`): bodies of different groups never touch, as the copies
+of one scene stepped together as an ensemble (runtime.step.ensemble); group -1 touches every
+group (a fixed body the copies share).  The circles are swept group by group, so copies laid on
+top of each other cost what copies side by side do.
 """
 
 from __future__ import annotations
@@ -52,12 +57,72 @@ def sweep(x, y, reach, fixed):
     return pairs[np.argsort(pairs[:, 0] * n + pairs[:, 1])]
 
 
+@leaf
+def _overlaps_grouped(a, c, r, f, g, order, pairs):
+    """:func:`_overlaps` for circles sorted by group, then by lower end (group g, -1 first):
+    the sweep stops at the end of a group, and each circle of group -1 is tried against every
+    circle of the other groups."""
+    n, count = len(a), 0
+    for p in range(n):
+        for q in range(p + 1, n):
+            if g[q] != g[p] or a[q] - r[q] > a[p] + r[p]:
+                break
+            da, dc, rr = a[p] - a[q], c[p] - c[q], r[p] + r[q]
+            if da * da + dc * dc <= rr * rr and not (f[p] and f[q]):
+                if count < len(pairs):
+                    i, j = order[p], order[q]
+                    pairs[count, 0], pairs[count, 1] = min(i, j), max(i, j)
+                count += 1
+    shared = 0
+    while shared < n and g[shared] == -1:
+        shared += 1
+    for p in range(shared):
+        for q in range(shared, n):
+            da, dc, rr = a[p] - a[q], c[p] - c[q], r[p] + r[q]
+            if da * da + dc * dc <= rr * rr and not (f[p] and f[q]):
+                if count < len(pairs):
+                    i, j = order[p], order[q]
+                    pairs[count, 0], pairs[count, 1] = min(i, j), max(i, j)
+                count += 1
+    return count
+
+
+@njit
+def sweep_groups(x, y, reach, fixed, groups):
+    """:func:`sweep` with a collision group per circle (int64 >= -1): only pairs of one group,
+    or with a circle of group -1, are reported."""
+    n = len(reach)
+    if n < 2:
+        return np.zeros((0, 2), dtype=np.int64)
+    along, across = (x, y) if np.ptp(x) >= np.ptp(y) else (y, x)
+    by_end = np.argsort(along - reach, kind="mergesort")
+    order = by_end[np.argsort(groups[by_end], kind="mergesort")]
+    a, c, r, f, g = along[order], across[order], reach[order], fixed[order], groups[order]
+    pairs = np.empty((4 * n, 2), dtype=np.int64)
+    count = _overlaps_grouped(a, c, r, f, g, order, pairs)
+    if count > len(pairs):
+        pairs = np.empty((count, 2), dtype=np.int64)
+        _overlaps_grouped(a, c, r, f, g, order, pairs)
+    pairs = pairs[:count]
+    return pairs[np.argsort(pairs[:, 0] * n + pairs[:, 1])]
+
+
 def candidate_pairs(
-    centres: np.ndarray, radii: np.ndarray, fixed: np.ndarray, margin: float = 0.0
+    centres: np.ndarray,
+    radii: np.ndarray,
+    fixed: np.ndarray,
+    margin: float = 0.0,
+    groups: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Index arrays ``(I, J)``, ``I < J``, sorted, of the pairs whose circles (``centres``,
-    ``radii``) are at most ``margin`` apart, skipping pairs of two fixed bodies."""
+    ``radii``) are at most ``margin`` apart, skipping pairs of two fixed bodies (and, given
+    ``groups``, pairs of two different groups neither of which is -1)."""
     c = np.ascontiguousarray(centres, dtype=float).reshape(-1, 2)
     reach = np.asarray(radii, dtype=float) + 0.5 * max(float(margin), 0.0)
-    pairs = sweep(c[:, 0].copy(), c[:, 1].copy(), reach, np.asarray(fixed, dtype=np.bool_))
+    flags = np.asarray(fixed, dtype=np.bool_)
+    if groups is None:
+        pairs = sweep(c[:, 0].copy(), c[:, 1].copy(), reach, flags)
+    else:
+        g = np.ascontiguousarray(groups, dtype=np.int64)
+        pairs = sweep_groups(c[:, 0].copy(), c[:, 1].copy(), reach, flags, g)
     return pairs[:, 0].copy(), pairs[:, 1].copy()

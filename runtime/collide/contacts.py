@@ -15,7 +15,7 @@ import numpy as np
 
 from runtime.collide.broadphase import candidate_pairs
 from runtime.collide.contact_set import Contacts
-from runtime.collide.finder import CASES, ContactFinder, check_bodies, possible_cases
+from runtime.collide.finder import CASES, ContactFinder, check_bodies, check_groups, possible_cases
 from runtime.model.shapes import Shape
 
 __all__ = ["CASES", "candidate_pairs", "find_contacts", "finder_for", "possible_cases"]
@@ -23,13 +23,18 @@ KEEP = 64  # finders kept for find_contacts (the engine's impact search asks pai
 _finders: OrderedDict = OrderedDict()
 
 
-def finder_for(shapes: Sequence[Shape], fixed: Sequence[bool]) -> ContactFinder:
-    """A contact finder for these bodies, reused while they are among the last KEEP asked for."""
+def finder_for(
+    shapes: Sequence[Shape], fixed: Sequence[bool], groups: Sequence[int] | None = None
+) -> ContactFinder:
+    """A contact finder for these bodies (and collision groups, see
+    :class:`~runtime.collide.finder.ContactFinder`), reused while they are among the last KEEP
+    asked for."""
     flags = check_bodies(shapes, fixed)
-    key = (tuple(map(id, shapes)), flags.tobytes())
+    grouped = None if groups is None else check_groups(groups, len(flags))
+    key = (tuple(map(id, shapes)), flags.tobytes(), None if grouped is None else grouped.tobytes())
     found = _finders.get(key)
     if found is None:
-        found = ContactFinder(shapes, flags)
+        found = ContactFinder(shapes, flags, grouped)
         _finders[key] = (found, tuple(shapes))  # the shapes too: their ids stay theirs
         if len(_finders) > KEEP:
             _finders.popitem(last=False)

@@ -93,17 +93,44 @@ def _kernel(case: str):
         ) from exc
 
 
+def check_groups(groups, n: int) -> np.ndarray:
+    """``groups`` as an (n,) int64 array of collision groups (integers >= -1), after checking
+    it; None gives an empty array (no groups: every pair may touch)."""
+    if groups is None:
+        return np.zeros(0, dtype=np.int64)
+    try:
+        g = np.asarray(groups, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"groups must be integers, one per shape, got {groups!r}") from None
+    if g.shape != (n,):
+        raise ValueError(f"groups must have one group per shape ({n}), got {g.size}")
+    bad = np.flatnonzero(~(np.isfinite(g) & (g == np.round(g)) & (g >= -1)))
+    if bad.size:
+        k = int(bad[0])
+        raise ValueError(f"groups must be integers >= -1; groups[{k}] = {float(g[k])!r}")
+    return g.astype(np.int64)
+
+
 class ContactFinder:
     """Finds the contacts of the bodies ``shapes`` (body coordinates, origin at the centre of
-    mass; ``fixed``: one flag per body) at any poses: :meth:`find`, :meth:`refresh_ovals`."""
+    mass; ``fixed``: one flag per body) at any poses: :meth:`find`, :meth:`refresh_ovals`.
 
-    def __init__(self, shapes: Sequence[Shape], fixed: Sequence[bool]) -> None:
+    ``groups``: a collision group per body (integers >= -1; default None: one group). Two
+    bodies touch only if their groups are equal or one of them is -1: N copies of a scene
+    stepped as one (runtime.step.ensemble) never see each other, and share the fixed bodies
+    of group -1."""
+
+    def __init__(
+        self, shapes: Sequence[Shape], fixed: Sequence[bool], groups: Sequence[int] | None = None
+    ) -> None:
         flags = check_bodies(shapes, fixed)
         self.n = len(shapes)
+        self.groups = check_groups(groups, self.n)
         self.cases = frozenset(possible_cases(shapes, flags))
         self.tables = scene_tables(shapes, flags)
         self.owner = self.tables.owner
         self.compound = len(self.owner) > self.n  # some body has several units (parts)
+        self._unit_groups = self.groups[self.owner] if self.groups.size else self.groups
         self.has_ovals = bool(np.any(np.diff(self.tables.start[:, 4])))
         self._kernels = [(CASE_ID[case], _kernel(case)) for case in sorted(self.cases)]
         self._zeros = np.zeros(self.n)
@@ -130,9 +157,9 @@ class ContactFinder:
         """All contacts at ``poses`` ((n, 3) of ``(x, y, th)``) whose gap is at most the pair's
         tolerance, ``tolerance + margins[i] + margins[j]`` (``margins``: (n,) per-body widening,
         e.g. how far each body can move in a step; default none), penetrating ones included,
-        between bodies both ``allowed`` (an (n,) bool mask; default all: the engine's islands
-        ask for the contacts among their bodies and the fixed ones). Ordered by pair (lower
-        index, higher index), then by feature."""
+        between bodies of one collision group (or of group -1) both ``allowed`` (an (n,) bool
+        mask; default all: the engine's islands ask for the contacts among their bodies and the
+        fixed ones). Ordered by pair (lower index, higher index), then by feature."""
         p = poses
         if not (type(p) is np.ndarray and p.dtype == np.float64 and p.shape == (self.n, 3)):
             p = self._poses(poses)
@@ -152,6 +179,7 @@ class ContactFinder:
                 base,
                 widen,
                 allow,
+                self._unit_groups,
                 rows,
                 start,
                 body,

@@ -37,7 +37,7 @@ import math
 import numpy as np
 
 from runtime.collide import ovals
-from runtime.collide.broadphase import sweep
+from runtime.collide.broadphase import sweep, sweep_groups
 from runtime.collide.candidates import BODY1, BODY2, CASE, G, PairContext
 from runtime.collide.corners import corner_on_corner, corners_on_edges
 from runtime.collide.curves import curves_on_curves, curves_on_segments
@@ -120,15 +120,17 @@ def _by_body(pairs, owner):
 
 @njit
 def find_candidates(
-    poses, base, margins, allowed, rows, start, body, owner, compound, cand, kernel_inputs
+    poses, base, margins, allowed, groups, rows, start, body, owner, compound, cand, kernel_inputs
 ):
-    """Broad phase, then the candidates of every pair of ``allowed`` units into ``cand`` (a row
-    per candidate, runtime.collide.candidates.COLUMNS) and the ``kernel_inputs``
-    (:func:`_kernel_inputs`).  A unit is a body or a part of a compound body (``owner``: the
-    body of each; ``poses``, ``margins``, ``allowed``: per unit, those of its body); with
-    ``compound``, pairs of one body's parts are skipped and the candidates are grouped by
-    the pair of bodies (their PAIR column).  Returns their number (more than ``cand`` holds:
-    grow it and call again), or -1 - u if the pose or margin of unit u is not finite."""
+    """Broad phase, then the candidates of every pair of ``allowed`` units (of one collision
+    group, or one of group -1, if ``groups`` is not empty: runtime.collide.broadphase) into
+    ``cand`` (a row per candidate, runtime.collide.candidates.COLUMNS) and the
+    ``kernel_inputs`` (:func:`_kernel_inputs`).  A unit is a body or a part of a compound body
+    (``owner``: the body of each; ``poses``, ``margins``, ``allowed``, ``groups``: per unit,
+    those of its body); with ``compound``, pairs of one body's parts are skipped and the
+    candidates are grouped by the pair of bodies (their PAIR column).  Returns their number
+    (more than ``cand`` holds: grow it and call again), or -1 - u if the pose or margin of
+    unit u is not finite."""
     n = len(poses)
     for b in range(n):
         if not (np.isfinite(poses[b, 0]) and np.isfinite(poses[b, 1]) and np.isfinite(poses[b, 2])):
@@ -138,7 +140,11 @@ def find_candidates(
     reach = np.empty(n)
     for b in range(n):
         reach[b] = body[b, RADIUS] + 0.5 * max(base, 0.0) + max(margins[b], 0.0)
-    pairs = sweep(poses[:, 0].copy(), poses[:, 1].copy(), reach, body[:, FIXED] > 0)
+    x, y, fixed = poses[:, 0].copy(), poses[:, 1].copy(), body[:, FIXED] > 0
+    if groups.size == 0:
+        pairs = sweep(x, y, reach, fixed)
+    else:
+        pairs = sweep_groups(x, y, reach, fixed, groups)
     number = np.arange(len(pairs)).astype(np.float64)
     if compound:
         pairs, number = _by_body(pairs, owner)

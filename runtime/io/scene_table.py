@@ -120,8 +120,8 @@ class Table:
     def check_keys(self, valid: Sequence[str]) -> None:
         """Reject keys that are not in ``valid``, saying why (runtime/io/scene_hints.py)."""
         for key in self.data:
-            if key not in valid:
-                self.fail(str(key), unknown_key_hint(str(key), valid))
+            if key not in valid:  # an empty key is named as written, "" (else no field shows)
+                self.fail(str(key) or '""', unknown_key_hint(str(key), valid))
 
     def has(self, key: str) -> bool:
         return key in self.data

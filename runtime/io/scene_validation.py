@@ -296,6 +296,11 @@ def _read_angle(table: Table) -> float:
         )
     if looks_like_degrees(angle):
         table.warn("angle", degrees_hint([angle]))
+    return reduced_angle(angle)
+
+
+def reduced_angle(angle: float) -> float:
+    """``angle`` (rad, below MAX_ANGLE in magnitude) reduced to (-pi, pi], exactly as read."""
     if -math.pi < angle <= math.pi:
         return angle
     reduced = math.atan2(math.sin(angle), math.cos(angle))

@@ -197,7 +197,9 @@ class SimulationDefaults:
 
 @dataclass
 class Scene:
-    """Bodies, gravity, contact tolerances and simulation defaults."""
+    """Bodies, gravity, contact tolerances and simulation defaults; ``groups``: a collision
+    group per body or None (runtime.collide.finder.ContactFinder: bodies of two different
+    groups never touch, group -1 touches all; how the copies of an ensemble share a scene)."""
 
     name: str
     bodies: list[Body]
@@ -207,6 +209,7 @@ class Scene:
     simulation: SimulationDefaults = field(default_factory=SimulationDefaults)
     source: str = "<dict>"
     description: str = ""
+    groups: list[int] | None = None
 
     @property
     def shapes(self) -> list[Any]:
@@ -250,7 +253,7 @@ class Scene:
 
     def contact_finder(self) -> ContactFinder:
         """The contact finder of the bodies as they are now (kept while they stay the same)."""
-        return _contacts.finder_for(self.shapes, self.fixed)
+        return _contacts.finder_for(self.shapes, self.fixed, self.groups)
 
     def contacts(
         self,

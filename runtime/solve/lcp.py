@@ -8,15 +8,19 @@ Entry points (signatures are the contract with the engine):
 
     f = solve(A, b, joint=None, *, tol=None, stats=None)
         A: array-like or scipy.sparse (m, m); b: (m,); joint: (m,) bool or None; tol: relative
-        row tolerance (None: settings.LCP_TOL); stats: a dict that receives counts. Splits the
-        problem into contact islands (connected components of A's pattern) and solves each
-        cold. Returns f (m,) float64; raises ValueError for bad input, ContactSolverError(message,
-        rows) when no valid force exists (naming the rows and the residual).
+        row tolerance (None: settings.LCP_TOL); stats: a dict that receives counts (islands,
+        paths taken, drives, pivots, least_norm). Splits a problem of more than
+        settings.LCP_DENSE_MAX rows into contact islands (connected components of A's
+        pattern) and solves each cold; a smaller one is solved whole (the dense solver costs
+        less than finding them). Returns f (m,) float64; raises ValueError for bad input and
+        ContactSolverError(message, rows) when no valid force exists (naming the rows and
+        the residual).
     f, clamped = solve_warm(A, b, joint=None, guess=None, tol=None)
         One island, warm-started: ``guess`` is the ``clamped`` of the previous solve of the same
-        rows (None or all False: cold). Dense compiled solver up to settings.LCP_DENSE_MAX rows
-        (or a dense A), the sparse path above. Returns f and clamped (m,) bool, the held rows
-        (a = 0: joints and touching contacts); raises as ``solve``.
+        rows (None or all False: cold). The compiled dense solver up to settings.LCP_DENSE_MAX
+        rows (and for a larger A fuller than settings.LCP_SPARSE_DENSITY), the sparse path
+        otherwise. Returns f and clamped (m,) bool, the held rows (a = 0 within tol: joints
+        and touching contacts); raises as ``solve``.
     status = solve_dense(A, b, joint, guess, tol, f_out, clamped_out)
         The compiled core (runtime.solve.lcp_dense; callable from numba code): A (m, m) float64
         C-contiguous, b (m,) float64, joint and guess (m,) bool, tol float (<= 0: the default),
@@ -51,7 +55,6 @@ __all__ = ["ContactSolverError", "DEFAULT_TOL", "solve", "solve_dense", "solve_p
 
 DEFAULT_TOL = settings.LCP_TOL  # the name runtime.step.resting and solve.warm_start use
 PATHS = ("none", "warm hit", "pivoting", "pivoting afresh", "polished", "single row", "sparse")
-_ISLAND_MIN = 8  # rows: smaller problems are solved whole (finding islands costs more)
 
 
 def solve(
@@ -69,9 +72,12 @@ def solve(
     f = np.zeros(m)
     counts = np.zeros(N_COUNTS, np.int64)
     paths: dict[str, int] = {}
-    islands = _islands(A) if m >= _ISLAND_MIN else [np.arange(m)]
+    islands = _islands(A) if m > settings.LCP_DENSE_MAX else [np.arange(m)]
     for rows in islands:
-        sub = A[np.ix_(rows, rows)] if not sp.issparse(A) else A[rows][:, rows]
+        if len(islands) == 1:
+            sub = A
+        else:
+            sub = A[np.ix_(rows, rows)] if not sp.issparse(A) else A[rows][:, rows]
         island_counts = np.zeros(N_COUNTS, np.int64)
         f_rows, _, status, blame = _solve_island(
             sub, b[rows], joint[rows], None, tol, island_counts
@@ -150,7 +156,8 @@ def _solve_island(A, b: Array, joint: Mask, guess: Mask | None, tol: float, coun
         nonzeros = A.nnz if sp.issparse(A) else np.count_nonzero(A)
         if nonzeros < settings.LCP_SPARSE_DENSITY * m * m:
             counts[lcp_dense.PATH] = PATHS.index("sparse")
-            return lcp_sparse.solve_sparse(sp.csr_array(A), b, joint, guess, tol, counts)
+            A = A if isinstance(A, sp.csr_array) else sp.csr_array(A)
+            return lcp_sparse.solve_sparse(A, b, joint, guess, tol, counts)
     dense = np.ascontiguousarray(A.toarray() if sp.issparse(A) else A, dtype=np.float64)
     f, clamped = np.empty(m), np.empty(m, np.bool_)
     status = lcp_dense.solve_dense_counted(dense, b, joint, guess, tol, f, clamped, counts)

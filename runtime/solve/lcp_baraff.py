@@ -25,9 +25,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import lcp_factor as fac
 
+_FLOOR = settings.LCP_FLOOR
 OK, INFEASIBLE, STUCK, NOT_FINITE, BAD_INPUT = 0, 1, 2, 3, 4  # solve_dense's status codes
 FREE, CLAMPED, NOT_CLAMPED = 0, 1, 2  # row states: unprocessed, C, NC
 DRIVES, PIVOTS, REFACTORS, PATH, MIN_NORM, N_COUNTS = 0, 1, 2, 3, 4, 5  # entries of ``counts``
@@ -35,8 +37,9 @@ DRIVES, PIVOTS, REFACTORS, PATH, MIN_NORM, N_COUNTS = 0, 1, 2, 3, 4, 5  # entrie
 
 @njit
 def residual(S, b, f, tol, a, tol_a):
-    """a = S f + b and each row's tolerance tol * (sum_j |S_ij f_j| + |b_i|)."""
+    """a = S f + b and each row's tolerance tol * (sum_j |S_ij f_j| + |b_i|) + the floor."""
     m = b.size
+    floor = tolerance_floor(b, f)
     for i in range(m):
         s = b[i]
         size = abs(b[i])
@@ -46,7 +49,17 @@ def residual(S, b, f, tol, a, tol_a):
                 s += t
                 size += abs(t)
         a[i] = s
-        tol_a[i] = tol * size
+        tol_a[i] = tol * size + floor
+
+
+@njit
+def tolerance_floor(b, f):
+    """settings.LCP_FLOOR of the largest scaled b or f: rounding that a row's own terms may not
+    show (b built from terms that cancelled, forces moved elsewhere by the least-norm stage)."""
+    top = 0.0
+    for i in range(b.size):
+        top = max(top, abs(b[i]), abs(f[i]))
+    return _FLOOR * top
 
 
 @njit
@@ -70,14 +83,13 @@ def is_solution(S, b, joint, f, tol, a, tol_a):
 @njit
 def _try_clamp(S, state, L, rows, k, j, dependent, row, scratch, counts, fresh):
     """Add j to C unless its Schur complement says it depends on C; (added, k, fresh)."""
-    limit = dependent * S[j, j]
-    pivot = fac.trial(S, L, rows, k, j, row)
-    if not pivot > limit and not fresh:  # the updated factor may have drifted: judge afresh
-        if fac.refactor(S, L, rows, k, scratch):
+    pivot, noise = fac.trial(S, L, rows, k, j, row)
+    if not fac.independent(S, j, pivot, noise, dependent) and not fresh:
+        if fac.refactor(S, L, rows, k, scratch):  # the updated factor may have drifted
             counts[REFACTORS] += 1
             fresh = True
-            pivot = fac.trial(S, L, rows, k, j, row)
-    if not pivot > limit:
+            pivot, noise = fac.trial(S, L, rows, k, j, row)
+    if not fac.independent(S, j, pivot, noise, dependent):
         return False, k, fresh
     k = fac.add(L, rows, k, j, row, pivot)
     state[j] = CLAMPED

@@ -50,7 +50,7 @@ from runtime.solve.lcp_baraff import (
     refine,
     residual,
 )
-from runtime.solve.lcp_minnorm import least_norm
+from runtime.solve.lcp_minnorm import DONE, FAILED, least_norm
 
 __all__ = ["solve_dense", "solve_dense_counted", "OK", "INFEASIBLE", "STUCK", "NOT_FINITE"]
 __all__ += ["BAD_INPUT", "N_COUNTS"]
@@ -58,7 +58,8 @@ __all__ += ["BAD_INPUT", "N_COUNTS"]
 WARM_HIT, PIVOTED, PIVOTED_FRESH, POLISHED, SINGLE = 1, 2, 3, 4, 5  # counts[PATH]
 _DEPENDENT, _NOISE = settings.LCP_DEPENDENT, settings.LCP_NOISE
 _ZERO_ROW, _SWEEPS, _TOL = settings.LCP_ZERO_ROW, settings.LCP_PGS_SWEEPS, settings.LCP_TOL
-_SYMMETRIC = 1e-8  # relative to sqrt(A_ii A_jj): |A_ij - A_ji| above this is not symmetric
+_SHARP, _REDUNDANT = settings.LCP_SHARP, settings.LCP_REDUNDANT
+_SYMMETRIC = settings.LCP_SYMMETRY
 
 
 @njit
@@ -71,7 +72,8 @@ def solve_dense(A, b, joint, guess, tol, f_out, clamped_out):
 @njit
 def solve_dense_counted(A, b, joint, guess, tol, f_out, clamped_out, counts):
     """solve_dense, also counting drives, pivots, fresh factorizations, the path taken (1 warm
-    hit, 2 pivoting, 3 pivoting afresh, 4 polished, 5 single row) and the least-norm stage."""
+    hit, 2 pivoting, 3 pivoting afresh, 4 polished, 5 single row) and the least-norm stage
+    (0 not needed, 1 done, 2 failed: the forces are a valid solution, not the least-norm one)."""
     budgets = np.zeros(2)
     return solve_dense_limited(A, b, joint, guess, tol, f_out, clamped_out, counts, budgets)
 
@@ -135,18 +137,19 @@ def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts, budgets):
     """The chain of the module docstring on the scaled problem (rows with S_ii = 0 are inert)."""
     m = b.size
     a, tol_a = np.empty(m), np.empty(m)
+    sharp = min(tol, _SHARP)  # what pivoting and a warm hit aim for; tol is what is accepted
     tune = np.array((_DEPENDENT, _NOISE, 0.0, budgets[0]))
     L, rows = np.empty((m, m)), np.empty(m, np.int64)
     state, culprit = np.zeros(m, np.int8), np.zeros(m, np.bool_)
-    k, status = 0, STUCK
+    k, status, settled = 0, STUCK, False
     if np.any(guess):
-        k, hit = _warm(S, b, joint, guess, tol, f, L, rows, state, a, tol_a)
+        k, hit, settled = _warm(S, b, joint, guess, sharp, tol, inv_w, f, L, rows, state, a, tol_a)
         if hit:
             status = OK
             counts[PATH] = WARM_HIT
     if status != OK:
         counts[PATH] = PIVOTED
-        status, k = _pivot(S, b, joint, tol, tune, f, state, L, rows, k, culprit, counts, a, tol_a)
+        status, k = _pivot(S, b, joint, sharp, tol, tune, f, state, L, rows, k, culprit, counts)
     if status != OK:
         first, best, blame = status, f.copy(), culprit.copy()
         counts[PATH] = PIVOTED_FRESH
@@ -154,14 +157,16 @@ def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts, budgets):
         f[:] = 0.0
         state[:] = FREE
         culprit[:] = False
-        status, k = _pivot(S, b, joint, tol, tune, f, state, L, rows, 0, culprit, counts, a, tol_a)
+        status, k = _pivot(S, b, joint, sharp, tol, tune, f, state, L, rows, 0, culprit, counts)
         if status != OK:
             counts[PATH] = POLISHED
             f[:] = best
             pgs(S, b, joint, f, _SWEEPS)
             support = joint | (f > 0.0)
-            k, hit = _warm(S, b, joint, support, tol, f, L, rows, state, a, tol_a)
-            if hit:
+            k, hit, settled = _warm(
+                S, b, joint, support, sharp, tol, inv_w, f, L, rows, state, a, tol_a
+            )
+            if hit or is_solution(S, b, joint, f, tol, a, tol_a):
                 status = OK
         if status != OK:
             f[:] = best
@@ -172,38 +177,49 @@ def _solve_scaled(S, b, joint, guess, tol, inv_w, f, held, counts, budgets):
     members = np.empty(m, np.int64)
     count = 0
     for i in range(m):
-        if S[i, i] > 0.0 and (joint[i] or abs(a[i]) <= tol_a[i]):
+        if S[i, i] > 0.0 and (joint[i] or f[i] > 0.0 or abs(a[i]) <= tol_a[i]):
             members[count] = i
             count += 1
-    if count > k:  # some held rows are not in the factor: maybe redundant
+    same = settled and counts[PATH] == WARM_HIT  # a hit over the same set: no least-norm stage
+    for c in range(count):
+        same = same and (guess[members[c]] or joint[members[c]])
+    if count > 1 and not same:
         trial = np.empty(m)
-        if least_norm(S, b, joint, inv_w, members, count, _DEPENDENT, trial):
-            if is_solution(S, b, joint, trial, tol, a, tol_a):
-                f[:] = trial
-                counts[MIN_NORM] = 1
-            else:
-                residual(S, b, f, tol, a, tol_a)
+        outcome = _least_norm(S, b, joint, inv_w, members, count, tol, trial)
+        counts[MIN_NORM] = outcome
+        if outcome == DONE:
+            f[:] = trial
+            residual(S, b, f, tol, a, tol_a)
     for i in range(m):
-        held[i] = held[i] or (S[i, i] > 0.0 and (joint[i] or abs(a[i]) <= tol_a[i]))
+        held[i] = held[i] or (S[i, i] > 0.0 and (joint[i] or f[i] > 0.0 or abs(a[i]) <= tol_a[i]))
     return OK
 
 
 @njit
-def _pivot(S, b, joint, tol, tune, f, state, L, rows, k, culprit, counts, a, tol_a):
-    """Baraff's method from the given state, refined and checked: (status, k)."""
-    status, k = baraff(S, b, joint, tol, tune, f, state, L, rows, k, culprit, counts)
+def _pivot(S, b, joint, sharp, tol, tune, f, state, L, rows, k, culprit, counts):
+    """Baraff's method from the given state, driving every row violated beyond ``sharp``,
+    refined, and accepted within ``tol``: (status, k)."""
+    status, k = baraff(S, b, joint, sharp, tune, f, state, L, rows, k, culprit, counts)
     if status == OK:
         refine(S, b, f, L, rows, k)
-        if not is_solution(S, b, joint, f, tol, a, tol_a):
-            status = STUCK  # accuracy lost: let the fallbacks try
-    return status, k
+    a, tol_a = np.empty(b.size), np.empty(b.size)
+    trial = f.copy()
+    if is_solution(S, b, joint, trial, tol, a, tol_a):  # (also when only ``sharp`` fails)
+        f[:] = trial
+        return OK, k
+    return (STUCK if status == OK else status), k  # accuracy lost: let the fallbacks try
 
 
 @njit
-def _warm(S, b, joint, guess, tol, f, L, rows, state, a, tol_a):
+def _warm(S, b, joint, guess, sharp, tol, inv_w, f, L, rows, state, a, tol_a):
     """Try the guessed clamped set: factor S_GG (joints first; dependent rows left out), solve,
-    check. On a miss, leave a valid state for pivoting: the guessed rows with f >= 0, dropping
-    the most negative force and solving again until none is negative. Returns (k, hit)."""
+    check -- with redundant rows in G, the least-norm forces over G (what the last solve
+    returned), since a basic solution over an arbitrary basis may need a negative force. On a
+    miss, leave a valid state for pivoting: the guessed rows with f >= 0, dropping the most
+    negative force and solving again until none is negative. A hit meets ``sharp`` (the
+    least-norm forces: ``tol``, as the solve that returned them). Returns (k, hit, settled):
+    settled when the hit's forces are already the least-norm ones over G (G has no
+    near-redundant row, or they are its least-norm forces)."""
     m = b.size
     candidates = np.empty(m, np.int64)
     n = 0
@@ -216,15 +232,18 @@ def _warm(S, b, joint, guess, tol, f, L, rows, state, a, tol_a):
             candidates[n] = i
             n += 1
     work = np.empty(m)
-    k = fac.factor_greedy(S, candidates, n, L, rows, _DEPENDENT, work)
+    k = fac.factor_basis(S, candidates, n, L, rows, _REDUNDANT)
+    unique = k == n
+    if not unique:  # some guessed rows (nearly) depend on others: the least norm, as last time
+        if _least_norm(S, b, joint, inv_w, candidates, n, tol, f) == DONE:
+            return k, True, True
+        k = fac.factor_basis(S, candidates, n, L, rows, _DEPENDENT)
     _solve_clamped(S, b, f, L, rows, k)
     trial = f.copy()
-    if is_solution(S, b, joint, trial, tol, a, tol_a):
+    if is_solution(S, b, joint, trial, sharp, a, tol_a):
         f[:] = trial
-        state[:] = FREE
-        for c in range(k):
-            state[rows[c]] = CLAMPED
-        return k, True
+        _clamp(state, rows, k)
+        return k, True, unique
     while True:
         worst, at = 0.0, -1
         for c in range(k):
@@ -235,10 +254,28 @@ def _warm(S, b, joint, guess, tol, f, L, rows, state, a, tol_a):
             break
         k = fac.remove(L, rows, k, at, work)
         _solve_clamped(S, b, f, L, rows, k)
+    _clamp(state, rows, k)
+    return k, False, False
+
+
+@njit
+def _least_norm(S, b, joint, inv_w, held, count, tol, f_out):
+    """The least-norm forces over the held rows (runtime.solve.lcp_minnorm), first with rows
+    within settings.LCP_REDUNDANT of the others' span counted as redundant -- near-redundant
+    pairs otherwise pin huge opposed forces that the tolerance cannot tell from small ones --
+    then, if that misses the tolerance, with only the truly dependent ones."""
+    outcome = least_norm(S, b, joint, inv_w, held, count, _REDUNDANT, tol, f_out)
+    if outcome == FAILED:
+        outcome = least_norm(S, b, joint, inv_w, held, count, _DEPENDENT, tol, f_out)
+    return outcome
+
+
+@njit
+def _clamp(state, rows, k):
+    """State: the k rows of the factor clamped, every other row unprocessed."""
     state[:] = FREE
     for c in range(k):
         state[rows[c]] = CLAMPED
-    return k, False
 
 
 @njit

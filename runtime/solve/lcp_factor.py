@@ -7,7 +7,9 @@ against C -- its new Cholesky pivot, the squared distance of its row from the sp
 in the metric of A -- is below ``dependent`` times its diagonal. For a positive semi-definite A
 that test is exact in exact arithmetic: a row of A is a combination of the rows of C exactly
 when its pivot is zero. So a greedy factorization over any set G is also a rank-revealing one:
-it returns a basis B of G's rows and leaves out the rows that depend on B.
+it returns a basis B of G's rows and leaves out the rows that depend on B. In floating point a
+pivot is "zero" below its rounding, estimated as it is computed (:func:`trial`), and the basis
+of a set is found with diagonal pivoting (:func:`factor_basis`), largest pivot first.
 
 Storage: ``L`` (m, m) lower triangular with its first k rows and columns in use, ``rows[:k]``
 the matrix rows of C in the order of L. A row enters by one forward substitution (O(k^2)) and
@@ -21,14 +23,21 @@ import math
 
 import numpy as np
 
+from runtime import settings
 from runtime.compiled import njit
+
+_ROUNDING = settings.LCP_PIVOT_ROUNDING
 
 
 @njit
 def trial(S, L, rows, k, j, row):
     """Fill ``row[:k]`` with the bottom row L would get if j joined C; return its squared pivot
-    (the Schur complement S_jj - S_jC S_CC^-1 S_Cj)."""
+    (the Schur complement S_jj - S_jC S_CC^-1 S_Cj) and the rounding that pivot may carry: an
+    entry row_i divided by a small pivot L_ii inherits that pivot's relative error, ~eps
+    S_ii / L_ii^2, so a row near the span of C after a near-dependent entrant looks
+    independent by ~eps S_ii / L_ii^2 row_i^2 (the greedy order's trap)."""
     pivot = S[j, j]
+    noise = S[j, j]
     for i in range(k):
         s = S[j, rows[i]]
         for p in range(i):
@@ -36,7 +45,15 @@ def trial(S, L, rows, k, j, row):
         s /= L[i, i]
         row[i] = s
         pivot -= s * s
-    return pivot
+        noise += s * s * S[rows[i], rows[i]] / (L[i, i] * L[i, i])
+    return pivot, _ROUNDING * noise
+
+
+@njit
+def independent(S, j, pivot, noise, dependent):
+    """Whether row j with this pivot is independent of C: above ``dependent`` of S_jj and above
+    the pivot's rounding (a row with S_jj = 0 never is)."""
+    return S[j, j] > 0.0 and pivot > dependent * S[j, j] + noise
 
 
 @njit
@@ -94,16 +111,50 @@ def solve(L, k, rhs, out):
 
 
 @njit
-def factor_greedy(S, candidates, count, L, rows, dependent, row):
-    """Factor S over ``candidates[:count]`` in that order, skipping every row whose pivot is
-    below ``dependent * S_jj`` (it depends on the rows kept). Returns k, the rows kept in
-    ``rows[:k]``; a row with S_jj = 0 (nothing can move it) is never kept."""
-    k = 0
+def factor_basis(S, candidates, count, L, rows, dependent):
+    """A basis of the rows ``candidates[:count]`` and the factor of its block: Cholesky with
+    diagonal pivoting -- at each step the candidate of largest relative Schur complement --
+    stopping when every remaining one depends on those taken (rank-revealing: the largest
+    pivot first keeps the rounding of the later ones small). Returns k, the basis in
+    ``rows[:k]`` with L (k x k) its factor in that order."""
+    columns = np.empty((count, count))
+    schur, noise = np.empty(count), np.empty(count)
+    taken = np.zeros(count, np.bool_)
     for c in range(count):
-        j = candidates[c]
-        pivot = trial(S, L, rows, k, j, row)
-        if pivot > dependent * S[j, j] and S[j, j] > 0.0:
-            k = add(L, rows, k, j, row, pivot)
+        schur[c] = S[candidates[c], candidates[c]]
+        noise[c] = schur[c]
+    k = 0
+    while k < count:
+        best, at = -1.0, -1
+        for c in range(count):  # ties to the lowest row: the basis ignores the listing order
+            j = candidates[c]
+            if taken[c] or not S[j, j] > 0.0:
+                continue
+            ratio = schur[c] / S[j, j]
+            if ratio > best or (ratio == best and j < candidates[at]):
+                best, at = ratio, c
+        if at < 0 or not independent(
+            S, candidates[at], schur[at], _ROUNDING * noise[at], dependent
+        ):
+            break
+        taken[at] = True
+        j = candidates[at]
+        pivot = math.sqrt(schur[at])
+        for p in range(k):
+            L[k, p] = columns[at, p]
+        L[k, k] = pivot
+        rows[k] = j
+        weight = S[j, j] / schur[at]
+        for c in range(count):
+            if not taken[c]:
+                s = S[candidates[c], j]
+                for p in range(k):
+                    s -= columns[c, p] * L[k, p]
+                s /= pivot
+                columns[c, k] = s
+                schur[c] -= s * s
+                noise[c] += s * s * weight
+        k += 1
     return k
 
 

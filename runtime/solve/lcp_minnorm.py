@@ -10,13 +10,18 @@ is unique (a strictly convex objective over a convex set) and bounded by the dat
 Every solution is zero off the held set P (rows with a = 0: joints and touching contacts) and
 solves A_PP f_P = -b_P with f >= 0 at contacts, so the least-norm one solves the least-distance
 problem  min sum w_i f_i^2  s.t.  E f = g,  f_contacts >= 0,  where, for a basis B of P's rows
-(a greedy rank-revealing factorization, runtime.solve.lcp_factor) and R = P \\ B, E = [I, T] with
+(a pivoted rank-revealing factorization, runtime.solve.lcp_factor) and R = P \\ B, E = [I, T] with
 T = S_BB^-1 S_BR and g = -S_BB^-1 b_B (the rows of R are combinations of B's). Its dual is
 unconstrained and concave, max_l g.l - 1/2 sum_i w_i^-1 [(E^T l)_i]_+^2 (joints not clipped), with
 f_i = [(E^T l)_i]_+ / w_i: a piecewise quadratic that a Newton method with a line search solves
 exactly once it has found the right pieces (usually in 1-3 steps, the first being the
-unconstrained least-norm solution over P). Scaled forces f~ = sqrt(A_ii) f carry weights
-w_i = 1 / A_ii, so the norm is that of f in N, whatever the scaling.
+unconstrained least-norm solution over P). Rounding can make the problem infeasible by an ulp
+(g_i = -1e-15 for two exactly opposed rows that carry nothing), which makes the dual unbounded
+and would drive such a pair to huge opposed forces; so the dual carries a tiny proximal term
+-mu/2 |l|^2 (mu = settings.LCP_LEAST_NORM_REGULAR of each row's curvature), which lets E f = g
+be missed by mu l -- rounding -- and keeps the dual strongly concave. Scaled forces
+f~ = sqrt(A_ii) f carry weights w_i = 1 / A_ii, so the norm is that of f in N, whatever the
+scaling.
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ import numpy as np
 from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import lcp_factor as fac
-from runtime.solve.lcp_baraff import refine
+from runtime.solve.lcp_baraff import is_solution, refine
 
 _STEP_SLOPE = 1e-4  # Armijo: a step must gain this fraction of its first-order promise
 _CONVERGED = settings.LCP_LEAST_NORM_DONE
@@ -34,19 +39,22 @@ _LOOSE = settings.LCP_LEAST_NORM_ENOUGH
 _REGULAR = settings.LCP_LEAST_NORM_REGULAR
 
 
+UNIQUE, DONE, FAILED = 0, 1, 2  # least_norm's outcomes
+
+
 @njit
-def least_norm(S, b, joint, inv_w, held, count, dependent, f_out):
-    """Write the least-norm solution over ``held[:count]`` into ``f_out`` (0 elsewhere) and
-    return True; False (``f_out`` unspecified) if the held rows are independent -- the solution
-    is then unique -- or the Newton method did not converge."""
+def least_norm(S, b, joint, inv_w, held, count, dependent, tol, f_out):
+    """Write the least-norm solution over ``held[:count]`` into ``f_out`` (0 elsewhere).
+    Returns DONE if it solves the LCP to ``tol``; UNIQUE if the held rows are independent (the
+    solution is unique, ``f_out`` untouched); FAILED if the Newton method did not converge or
+    its forces fail the check (an ill-conditioned basis: ``f_out`` unspecified)."""
     m = b.size
     L = np.empty((count, count))
     rows = np.empty(count, np.int64)
-    row = np.empty(count)
-    k = fac.factor_greedy(S, held, count, L, rows, dependent, row)
+    k = fac.factor_basis(S, held, count, L, rows, dependent)
     q = count - k
     if q == 0:
-        return False
+        return UNIQUE
     basis = np.zeros(m, np.bool_)
     for c in range(k):
         basis[rows[c]] = True
@@ -76,19 +84,37 @@ def least_norm(S, b, joint, inv_w, held, count, dependent, f_out):
         f_out[rows[c]] = f_basis[c]
     for c in range(q):
         f_out[others[c]] = f_others[c]
-    if done:  # T may be ill-conditioned: refine a_B = 0 with the basis factor
-        refine(S, b, f_out, L, rows, k)
-    return done
+    if not done:
+        return FAILED
+    _drop_noise(f_out)
+    a, tol_a = np.empty(m), np.empty(m)
+    if is_solution(S, b, joint, f_out, tol, a, tol_a):
+        return DONE
+    refine(S, b, f_out, L, rows, k)  # T may be ill-conditioned: refine a_B = 0 with the basis
+    return DONE if is_solution(S, b, joint, f_out, tol, a, tol_a) else FAILED
 
 
 @njit
-def _forces(T, g, lam, wB, wR, jB, jR, fB, fR, uR, grad):
-    """f(l) = [E^T l]_+ / w and the dual's gradient g - E f; returns the dual objective."""
+def _drop_noise(f):
+    """Set forces at rounding level of the largest (settings.LCP_NOISE) to 0: they are what is
+    left of cancelling terms, and a row they touch may have nothing else to be measured by."""
+    top = 0.0
+    for i in range(f.size):
+        top = max(top, abs(f[i]))
+    for i in range(f.size):
+        if abs(f[i]) <= settings.LCP_NOISE * top:
+            f[i] = 0.0
+
+
+@njit
+def _forces(T, g, lam, mu, wB, wR, jB, jR, fB, fR, uR, grad):
+    """f(l) = [E^T l]_+ / w and the dual's gradient g - E f - mu l; returns the dual objective
+    g.l - 1/2 sum w u_+^2 - 1/2 mu |l|^2."""
     r, q = T.shape
     phi = 0.0
     for i in range(r):
-        phi += g[i] * lam[i]
         u = lam[i]
+        phi += g[i] * u - 0.5 * mu[i] * u * u
         if jB[i] or u > 0.0:
             fB[i] = wB[i] * u
             phi -= 0.5 * wB[i] * u * u
@@ -105,7 +131,7 @@ def _forces(T, g, lam, wB, wR, jB, jR, fB, fR, uR, grad):
         else:
             fR[c] = 0.0
     for i in range(r):
-        s = g[i] - fB[i]
+        s = g[i] - fB[i] - mu[i] * lam[i]
         for c in range(q):
             s -= T[i, c] * fR[c]
         grad[i] = s
@@ -115,21 +141,27 @@ def _forces(T, g, lam, wB, wR, jB, jR, fB, fR, uR, grad):
 @njit
 def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
     """The least-distance problem min sum f_i^2 / w_i s.t. f_B + T f_R = g, contacts >= 0, by
-    Newton's method on its dual (``w`` here are the inverse weights A_ii / max A_jj). Fills
-    fB, fR; True when |g - f_B - T f_R| is at rounding level. A full step that keeps every row
-    on its piece solves the dual's quadratic there exactly, so it is taken even when rounding
-    hides its gain in the objective; after it only rounding is left."""
+    Newton's method on its (proximally regularized) dual (``w`` here are the inverse weights
+    A_ii / max A_jj). Fills fB, fR; True when the dual's gradient is at rounding level. A full
+    step that keeps every row on its piece solves the dual's quadratic there exactly, so it is
+    taken even when rounding hides its gain in the objective; after it only rounding is left."""
     r, q = T.shape
     lam, trial, step = np.zeros(r), np.empty(r), np.empty(r)
     grad, grad_t = np.empty(r), np.empty(r)
     uR, uR_t = np.empty(q), np.empty(q)
     fB_t, fR_t = np.empty(r), np.empty(q)
     H, scratch = np.empty((r, r)), np.empty((r, r))
-    phi = _forces(T, g, lam, wB, wR, jB, jR, fB, fR, uR, grad)
+    mu = wB.copy()
+    for i in range(r):
+        for c in range(q):
+            mu[i] += wR[c] * T[i, c] * T[i, c]
+        mu[i] *= _REGULAR
+    phi = _forces(T, g, lam, mu, wB, wR, jB, jR, fB, fR, uR, grad)
     everything = True  # the first step: every row active, the unconstrained least norm
     for _ in range(100):
         H[:, :] = 0.0
         for i in range(r):
+            H[i, i] = mu[i]
             if everything or jB[i] or lam[i] > 0.0:
                 H[i, i] += wB[i]
         for c in range(q):
@@ -139,11 +171,6 @@ def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
                     if t != 0.0:
                         for p in range(r):
                             H[i, p] += t * T[p, c]
-        top = 0.0
-        for i in range(r):
-            top = max(top, H[i, i])
-        for i in range(r):
-            H[i, i] += _REGULAR * (H[i, i] if H[i, i] > 0.0 else top)
         if not fac.cholesky_solve(H, grad, step, scratch):
             return False
         slope = 0.0
@@ -154,14 +181,14 @@ def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
         for _ in range(60):
             for i in range(r):
                 trial[i] = lam[i] + t * step[i]
-            phi_t = _forces(T, g, trial, wB, wR, jB, jR, fB_t, fR_t, uR_t, grad_t)
+            phi_t = _forces(T, g, trial, mu, wB, wR, jB, jR, fB_t, fR_t, uR_t, grad_t)
             same = t == 1.0 and _same_pieces(lam, uR, trial, uR_t, jB, jR, everything)
             if same or phi_t >= phi + _STEP_SLOPE * t * slope:
                 accepted = True
                 break
             t *= 0.5
         if not accepted:
-            return _converged(T, g, fB, fR, grad, _LOOSE)
+            return _converged(T, g, fB, fR, _LOOSE)
         lam[:] = trial
         fB[:] = fB_t
         fR[:] = fR_t
@@ -169,10 +196,10 @@ def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
         grad[:] = grad_t
         phi = phi_t
         everything = False
-        if _converged(T, g, fB, fR, grad, _CONVERGED):
+        if _converged(T, g, fB, fR, _CONVERGED):
             return True
         if same:
-            return _converged(T, g, fB, fR, grad, _LOOSE)
+            return _converged(T, g, fB, fR, _LOOSE)
     return False
 
 
@@ -190,13 +217,18 @@ def _same_pieces(lam, uR, trial, uR_t, jB, jR, everything):
 
 
 @njit
-def _converged(T, g, fB, fR, grad, bound):
-    """Whether |g - f_B - T f_R| is below ``bound`` times the size of its terms, row by row."""
+def _converged(T, g, fB, fR, bound):
+    """Whether E f = g holds to ``bound`` times the size of its terms (the largest row's: a
+    row whose g is rounding of 0 and cannot be met with f >= 0 is met). The proximal term may
+    only absorb rounding: a miss beyond it means the equations were not solved."""
     r, q = T.shape
+    size, worst = 0.0, 0.0
     for i in range(r):
-        size = abs(g[i]) + abs(fB[i])
+        row = abs(g[i]) + abs(fB[i])
+        miss = g[i] - fB[i]
         for c in range(q):
-            size += abs(T[i, c] * fR[c])
-        if abs(grad[i]) > bound * size:
-            return False
-    return True
+            row += abs(T[i, c] * fR[c])
+            miss -= T[i, c] * fR[c]
+        size = max(size, row)
+        worst = max(worst, abs(miss))
+    return worst <= bound * size

@@ -14,9 +14,19 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 
+from runtime import settings
+from runtime.solve.lcp_envelope import (
+    FINE,
+    NEGATIVE_DIAGONAL,
+    NOT_FINITE,
+    NOT_PSD,
+    NOT_SYMMETRIC,
+    check_csr,
+)
+
 Array = NDArray[np.float64]
 Mask = NDArray[np.bool_]
-_SYMMETRIC = 1e-8  # relative to sqrt(A_ii A_jj), as in runtime.solve.lcp_dense
+_SYMMETRIC = settings.LCP_SYMMETRY
 
 
 class ContactSolverError(RuntimeError):
@@ -36,42 +46,50 @@ def prepare(
     b = np.array(b, dtype=float).reshape(-1)
     n = b.size
     if sp.issparse(A):
-        A = sp.csr_array(A, dtype=float)
-        A.sum_duplicates()
-        values, pattern_t = A.data, sp.csr_array(A.T)
-        mismatch = abs(A - pattern_t)
-        diag = A.diagonal()
+        if not (isinstance(A, sp.csr_array) and A.dtype == float and A.has_canonical_format):
+            A = sp.csr_array(A, dtype=float, copy=True)  # (the caller's matrix stays as it is)
+            A.sum_duplicates()  # and sorts the indices
+        if A.shape != (n, n):
+            raise ValueError(f"A has shape {A.shape}, expected ({n}, {n}) to match b")
+        problem = check_csr(A.indptr, A.indices, A.data, A.diagonal())
+        if not np.all(np.isfinite(b)):
+            problem = NOT_FINITE
     else:
         A = np.array(A, dtype=float, ndmin=2)
         if n == 0:
             A = A.reshape(0, 0)
-        values, diag = A, np.diagonal(A).copy() if A.ndim == 2 else np.zeros(0)
-        mismatch = None
-    if A.shape != (n, n):
-        raise ValueError(f"A has shape {A.shape}, expected ({n}, {n}) to match b")
-    if not (np.all(np.isfinite(values)) and np.all(np.isfinite(b))):
-        raise ValueError("A and b must be finite")
-    if np.any(diag < 0):
-        rows = np.flatnonzero(diag < 0)[:5].tolist()
-        raise ValueError(f"A must be positive semi-definite: negative diagonal at rows {rows}")
-    root = np.sqrt(diag)
-    if sp.issparse(A):
-        coo = mismatch.tocoo()
-        bad = coo.data > _SYMMETRIC * root[coo.row] * root[coo.col]
-        big = A.tocoo()
-        too_big = np.abs(big.data) > (1 + _SYMMETRIC) * root[big.row] * root[big.col]
-    else:
-        bound = np.outer(root, root)
-        bad = np.abs(A - A.T) > _SYMMETRIC * bound
-        too_big = np.abs(A) > (1 + _SYMMETRIC) * bound
-    if np.any(bad):
-        raise ValueError("A must be symmetric (A_ij = A_ji to 1e-8 of sqrt(A_ii A_jj))")
-    if np.any(too_big):
-        raise ValueError("A must be positive semi-definite (|A_ij| <= sqrt(A_ii A_jj))")
+        if A.shape != (n, n):
+            raise ValueError(f"A has shape {A.shape}, expected ({n}, {n}) to match b")
+        problem = _check_dense(A, b)
+    if problem != FINE:
+        raise ValueError(_PROBLEMS[problem])
     mask = np.zeros(n, bool) if joint is None else np.asarray(joint, dtype=bool).reshape(-1)
     if mask.shape != (n,):
         raise ValueError(f"joint has {mask.size} entries, expected {n}")
     return A, b, mask
+
+
+_PROBLEMS = {
+    NOT_FINITE: "A and b must be finite",
+    NEGATIVE_DIAGONAL: "A must be positive semi-definite: a negative diagonal entry",
+    NOT_SYMMETRIC: "A must be symmetric (A_ij = A_ji to 1e-8 of sqrt(A_ii A_jj))",
+    NOT_PSD: "A must be positive semi-definite (|A_ij| <= sqrt(A_ii A_jj))",
+}
+
+
+def _check_dense(A: Array, b: Array) -> int:
+    """check_csr's verdict for a dense A (and a finite b)."""
+    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
+        return NOT_FINITE
+    diag = np.diagonal(A)
+    if np.any(diag < 0):
+        return NEGATIVE_DIAGONAL
+    bound = np.sqrt(np.outer(diag, diag))
+    if np.any(np.abs(A - A.T) > _SYMMETRIC * bound):
+        return NOT_SYMMETRIC
+    if np.any(np.abs(A) > (1 + _SYMMETRIC) * bound):
+        return NOT_PSD
+    return FINE
 
 
 def row_names(rows: Sequence[int], joint: Mask, index: Sequence[int] | None = None) -> str:
@@ -83,11 +101,15 @@ def row_names(rows: Sequence[int], joint: Mask, index: Sequence[int] | None = No
 
 def violations(A, b: Array, joint: Mask, f: Array, tol: float) -> tuple[Array, Array]:
     """(violation, tolerance) of every row at f: -a at contacts with f = 0, |a| at joints and
-    at contacts with f > 0, against tol * (sum_j |A_ij f_j| + |b_i|)."""
+    at contacts with f > 0, against tol * (sum_j |A_ij f_j| + |b_i|) plus the floor
+    settings.LCP_FLOOR * sqrt(A_ii) max_j(|b_j| / sqrt(A_jj), |f_j| sqrt(A_jj))."""
     a = A @ f + b
     size = abs(A) @ np.abs(f) + np.abs(b)
+    root = np.sqrt(A.diagonal())
+    live = root > 0
+    top = max(np.max(np.abs(b[live]) / root[live], initial=0.0), np.max(np.abs(f) * root))
     held = joint | (f > 0)
-    return np.where(held, np.abs(a), -a), tol * size
+    return np.where(held, np.abs(a), -a), tol * size + settings.LCP_FLOOR * root * top
 
 
 def failure(

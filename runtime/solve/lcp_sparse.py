@@ -1,27 +1,22 @@
 """The sparse path of the contact-force solve, for islands of hundreds to thousands of contacts.
 
 Why: a pile's A = J M^-1 J^T has a handful of non-zeros per row (a contact couples only to the
-contacts of its two bodies), so a dense O(m^3) factorization wastes almost all of its work. Here
-the rows are put in reverse Cuthill-McKee order (scipy.sparse.csgraph), which gathers a pile's
-non-zeros into a narrow envelope (profile), and the clamped block is factored within that
-envelope, O(m * bandwidth^2), by a compiled skyline Cholesky that leaves out dependent rows
-exactly as the dense factor does (runtime.solve.lcp_factor): a row whose pivot falls below
-settings.LCP_DEPENDENT of its diagonal is redundant and is dropped, so redundant contacts never
-make the factor singular. scipy's splu cannot do that (it fails or returns garbage on a singular
-block), and the envelope keeps everything in flat arrays that compiled code can walk.
+contacts of its two bodies), so the dense solver's O(m^3) factorizations waste almost all of
+their work. Here the rows are put in reverse Cuthill-McKee order (scipy.sparse.csgraph), and the
+clamped block is factored within its envelope, leaving out dependent rows exactly as the dense
+factor does (runtime.solve.lcp_envelope).
 
 The clamped set is found by block principal pivoting (the primal-dual active-set method):
 solve on the current set G; drop contacts with f < 0, add those outside with a < 0; repeat.
-Warm-started from the previous set it usually ends after one factorization. A set that stops
-shrinking its violations for three rounds switches to one exchange per round (Murty's rule, the
-Judice-Pires safeguard); if that too fails, the island goes to the dense compiled solver
-(runtime.solve.lcp_dense), warm-started from the best set. The least-norm policy for redundant
-rows is the dense path's (runtime.solve.lcp_minnorm), on the same basis/dependent split.
+Warm-started from the previous set it usually ends after one factorization; cold, it starts
+from every row clamped (a resting pile mostly is). A set that stops losing violations for
+three rounds switches to one exchange per round (Murty's rule, the Judice-Pires safeguard); if
+that fails too, the island goes to the dense compiled solver (runtime.solve.lcp_dense),
+warm-started from the best set. Redundant rows get the dense path's least-norm policy
+(runtime.solve.lcp_minnorm), with the basis the envelope factor finds in its order.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import scipy.sparse as sp
@@ -30,99 +25,12 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import lcp_dense
-from runtime.solve.lcp_baraff import INFEASIBLE, MIN_NORM, OK, STUCK
-from runtime.solve.lcp_minnorm import dual_newton
+from runtime.solve import lcp_envelope as env
+from runtime.solve.lcp_baraff import INFEASIBLE, MIN_NORM, OK, PIVOTS, STUCK
+from runtime.solve.lcp_minnorm import DONE, FAILED, UNIQUE, dual_newton
 
 _ROUNDS = 50  # block pivoting rounds before the dense fallback (a warm start needs 1-3)
 _PATIENCE = 3  # rounds without fewer violations before one exchange per round
-
-
-@njit
-def envelope(indptr, indices, data):
-    """The lower envelope of a symmetric CSR matrix: first column fc[i] of row i, offsets and
-    the values S[i, fc[i]..i] of each row, packed (the factor has the same envelope)."""
-    m = indptr.size - 1
-    first = np.arange(m)
-    for i in range(m):
-        for p in range(indptr[i], indptr[i + 1]):
-            first[i] = min(first[i], indices[p])
-    offset = np.zeros(m + 1, np.int64)
-    for i in range(m):
-        offset[i + 1] = offset[i] + i - first[i] + 1
-    values = np.zeros(offset[m])
-    for i in range(m):
-        for p in range(indptr[i], indptr[i + 1]):
-            j = indices[p]
-            if j <= i:
-                values[offset[i] + j - first[i]] += data[p]
-    return first, offset, values
-
-
-@njit
-def factor(first, offset, values, member, dependent, L, kept):
-    """Skyline Cholesky of S over the rows in ``member``, leaving out rows that depend on the
-    rows kept before them (and rows with S_ii = 0): such a row gets an identity row in L and a
-    zero column. Returns the number of rows kept."""
-    m = first.size
-    count = 0
-    for i in range(m):
-        base, lo = offset[i], first[i]
-        diag = values[base + i - lo]
-        kept[i] = False
-        for j in range(lo, i):
-            L[base + j - lo] = 0.0
-        L[base + i - lo] = 1.0
-        if not member[i] or not diag > 0.0:
-            continue
-        pivot = diag
-        for j in range(lo, i):
-            if not kept[j]:
-                continue
-            bj, lj = offset[j], first[j]
-            s = values[base + j - lo]
-            for p in range(max(lo, lj), j):
-                s -= L[base + p - lo] * L[bj + p - lj]
-            s /= L[bj + j - lj]
-            L[base + j - lo] = s
-            pivot -= s * s
-        if pivot > dependent * diag:
-            L[base + i - lo] = math.sqrt(pivot)
-            kept[i] = True
-            count += 1
-        else:
-            for j in range(lo, i):
-                L[base + j - lo] = 0.0
-    return count
-
-
-@njit
-def solve(first, offset, L, rhs, x):
-    """x = (L L^T)^-1 rhs (rhs must be 0 at rows left out: x is 0 there)."""
-    m = first.size
-    for i in range(m):
-        base, lo = offset[i], first[i]
-        s = rhs[i]
-        for p in range(lo, i):
-            s -= L[base + p - lo] * x[p]
-        x[i] = s / L[base + i - lo]
-    for i in range(m - 1, -1, -1):
-        base, lo = offset[i], first[i]
-        x[i] /= L[base + i - lo]
-        for p in range(lo, i):
-            x[p] -= L[base + p - lo] * x[i]
-
-
-@njit
-def residual(indptr, indices, data, b, f, tol, a, tol_a):
-    """a = S f + b and each row's tolerance tol * (sum_j |S_ij f_j| + |b_i|), S in CSR."""
-    for i in range(b.size):
-        s, size = b[i], abs(b[i])
-        for p in range(indptr[i], indptr[i + 1]):
-            t = data[p] * f[indices[p]]
-            s += t
-            size += abs(t)
-        a[i] = s
-        tol_a[i] = tol * size
 
 
 @njit
@@ -143,30 +51,37 @@ def _violations(joint, member, kept, f, a, tol_a, out):
 
 
 @njit
-def pivot_blocks(indptr, indices, data, first, offset, values, b, joint, member, tol, counts, f):
-    """Block principal pivoting from ``member`` (updated in place); f on success. Status."""
+def pivot_blocks(S, envelope, b, joint, member, tol, counts, f):
+    """Block principal pivoting from ``member`` (updated in place), exchanging rows violated
+    beyond settings.LCP_SHARP, accepting within ``tol``. ``S`` = (indptr, indices, data),
+    ``envelope`` = (first, offset, values). Returns (status, smallest pivot ratio of the last
+    factor, whether it kept every member); f on success."""
+    indptr, indices, data = S
+    first, offset, values = envelope
     m = b.size
     L = np.empty(values.size)
     kept, bad = np.zeros(m, np.bool_), np.zeros(m, np.bool_)
-    a, tol_a, rhs = np.empty(m), np.empty(m), np.empty(m)
+    a, tol_a, rhs, clipped = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
     best, idle = m + 1, 0
+    sharp = min(tol, settings.LCP_SHARP)
     for _ in range(_ROUNDS):
-        counts[1] += 1
-        factor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept)
+        counts[PIVOTS] += 1
+        count, smallest = env.factor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept)
         for i in range(m):
             rhs[i] = -b[i] if kept[i] else 0.0
-        solve(first, offset, L, rhs, f)
-        residual(indptr, indices, data, b, f, tol, a, tol_a)
+        env.solve(first, offset, L, rhs, f)
+        env.residual(indptr, indices, data, b, f, sharp, a, tol_a)
         n = _violations(joint, member, kept, f, a, tol_a, bad)
-        clipped = f.copy()
         for i in range(m):
-            if not joint[i] and clipped[i] < 0.0:
-                clipped[i] = 0.0
-        if _valid(indptr, indices, data, b, joint, clipped, tol, a, tol_a):
+            clipped[i] = f[i] if joint[i] else max(f[i], 0.0)
+        whole = count == np.sum(member)
+        if env.valid(indptr, indices, data, b, joint, clipped, sharp, a, tol_a):
             f[:] = clipped
-            return OK
-        if n == 0:
-            return STUCK  # the set looks right but the forces miss the tolerance
+            return OK, smallest, whole
+        if n == 0:  # the set looks right: the forces are as good as this factor makes them
+            f[:] = clipped
+            good = env.valid(indptr, indices, data, b, joint, f, tol, a, tol_a)
+            return (OK if good else STUCK), smallest, whole
         if n < best:
             best, idle = n, 0
         else:
@@ -181,47 +96,22 @@ def pivot_blocks(indptr, indices, data, first, offset, values, b, joint, member,
                     member[i] = False
                 elif not member[i]:
                     member[i] = True
-    return STUCK
-
-
-@njit
-def _valid(indptr, indices, data, b, joint, f, tol, a, tol_a):
-    residual(indptr, indices, data, b, f, tol, a, tol_a)
-    for i in range(b.size):
-        if joint[i] or f[i] > 0.0:
-            if not abs(a[i]) <= tol_a[i]:
-                return False
-        elif not a[i] >= -tol_a[i]:
-            return False
-    return True
+    return STUCK, 0.0, False
 
 
 def solve_sparse(A: sp.csr_array, b: np.ndarray, joint, guess, tol: float, counts):
-    """(f, clamped, status, blame) of one island by the sparse path (see the module docstring)."""
+    """(f, clamped, status, blame) of one island by the sparse path (see the module docstring).
+    A: CSR with sorted indices (runtime.solve.lcp_problem.prepare)."""
     m = b.size
+    order = reverse_cuthill_mckee(sp.csr_matrix(A), symmetric_mode=True).astype(np.int64)
     diag = A.diagonal()
-    top = float(np.max(diag, initial=0.0))
-    live = diag > settings.LCP_ZERO_ROW * top
-    d = np.where(live, 1.0 / np.sqrt(np.where(live, diag, 1.0)), 0.0)
-    b_max = float(np.max(np.abs(b), initial=0.0))
-    dead = ~live & ((b < -tol * b_max) | (joint & (b > tol * b_max)))
+    S, envelope, d, bs, js, live, member, dead = _set_up(
+        A.indptr, A.indices, A.data, diag, b, joint, guess, order, tol
+    )
     if dead.any():
         return np.zeros(m), dead, INFEASIBLE, dead
-    scale = sp.diags_array(d)
-    S = sp.csr_array(scale @ A @ scale)
-    S = sp.csr_array(0.5 * (S + S.T))
-    order = reverse_cuthill_mckee(sp.csr_matrix(S), symmetric_mode=True)
-    S = sp.csr_array(S[order][:, order])
-    S.sort_indices()
-    bs, js = (d * b)[order], joint[order]
-    member = (js | guess[order] | (bs < 0.0)) & live[order]
-    if not guess.any():
-        member |= live[order]  # cold: everything clamped first (a resting pile mostly is)
-    first, offset, values = envelope(S.indptr, S.indices, S.data)
     fs = np.zeros(m)
-    status = pivot_blocks(
-        S.indptr, S.indices, S.data, first, offset, values, bs, js, member, tol, counts, fs
-    )
+    status, smallest, whole = pivot_blocks(S, envelope, bs, js, member, tol, counts, fs)
     if status != OK:  # the dense solver, warm-started from the best set
         dense = np.ascontiguousarray(A.toarray())
         f, clamped = np.empty(m), np.empty(m, np.bool_)
@@ -229,52 +119,116 @@ def solve_sparse(A: sp.csr_array, b: np.ndarray, joint, guess, tol: float, count
         start[order] = member
         status = lcp_dense.solve_dense_counted(dense, b, joint, start, tol, f, clamped, counts)
         return f, clamped, status, clamped if status != OK else None
+    held = _held(S, bs, js, fs, tol, live)
+    if not (whole and smallest > settings.LCP_REDUNDANT and np.array_equal(held, member)):
+        inv_w = (diag / np.max(diag))[order]
+        for threshold in (settings.LCP_REDUNDANT, settings.LCP_DEPENDENT):
+            outcome, trial = _least_norm(S, envelope, bs, js, held, inv_w, threshold, tol)
+            counts[MIN_NORM] = outcome
+            if outcome != FAILED:
+                break
+        if outcome == DONE:
+            fs = trial
+            held = _held(S, bs, js, fs, tol, live)
+    f, clamped = _tear_down(order, d, fs, held, live, joint, b, tol)
+    return f, clamped, OK, None
+
+
+@njit
+def _set_up(indptr, indices, data, diag, b, joint, guess, order, tol):
+    """The scaled problem in the given order: S (CSR), its envelope, D's diagonal d, and b,
+    joint, live (S_ii > 0) and the starting clamped set in that order; also the rows no force
+    moves that need one (``dead``, in the original order)."""
+    m = b.size
+    top, b_max = 0.0, 0.0
+    for i in range(m):
+        top = max(top, diag[i])
+        b_max = max(b_max, abs(b[i]))
+    d = np.zeros(m)
+    dead = np.zeros(m, np.bool_)
+    for i in range(m):
+        if diag[i] > settings.LCP_ZERO_ROW * top:
+            d[i] = 1.0 / np.sqrt(diag[i])
+        else:
+            dead[i] = b[i] < -tol * b_max or (joint[i] and b[i] > tol * b_max)
+    position = np.empty(m, np.int64)
+    position[order] = np.arange(m)
+    S = env.scaled(indptr, indices, data, d, position)
+    envelope = env.envelope(S[0], S[1], S[2])
+    cold = not np.any(guess)
+    bs, js = np.empty(m), np.empty(m, np.bool_)
+    live, member = np.empty(m, np.bool_), np.empty(m, np.bool_)
+    for r in range(m):
+        i = order[r]
+        bs[r], js[r], live[r] = d[i] * b[i], joint[i], d[i] > 0.0
+        member[r] = live[r] and (cold or joint[i] or guess[i] or bs[r] < 0.0)
+    return S, envelope, d, bs, js, live, member, dead
+
+
+@njit
+def _held(S, b, joint, f, tol, live):
+    """The held rows: joints, contacts with a force, and contacts within ``tol`` of a = 0."""
+    m = b.size
     a, tol_a = np.empty(m), np.empty(m)
-    residual(S.indptr, S.indices, S.data, bs, fs, tol, a, tol_a)
-    held = (js | (np.abs(a) <= tol_a)) & live[order]
-    trial = _least_norm(first, offset, values, S, bs, js, held, (diag / top)[order])
-    if trial is not None and _valid(S.indptr, S.indices, S.data, bs, js, trial, tol, a, tol_a):
-        fs = trial
-        counts[MIN_NORM] = 1
-        held = (js | (np.abs(a) <= tol_a)) & live[order]
-    f, clamped = np.zeros(m), ~live & (joint | (b <= tol * b_max))
-    f[order] = fs
-    clamped[order] |= held
-    return d * f, clamped, OK, None
+    env.residual(S[0], S[1], S[2], b, f, tol, a, tol_a)
+    held = np.empty(m, np.bool_)
+    for i in range(m):
+        held[i] = live[i] and (joint[i] or f[i] > 0.0 or abs(a[i]) <= tol_a[i])
+    return held
 
 
-def _least_norm(first, offset, values, S, b, joint, held, inv_w):
-    """The least-norm forces over the held rows if some are redundant, else None."""
+@njit
+def _tear_down(order, d, fs, held, live, joint, b, tol):
+    """Forces and the clamped set back in the original order and units; rows no force moves
+    are clamped when they need no force (b ~ 0, or b >= 0 at a contact: they touch)."""
+    m = b.size
+    b_max = 0.0
+    for i in range(m):
+        b_max = max(b_max, abs(b[i]))
+    f, clamped = np.zeros(m), np.zeros(m, np.bool_)
+    for r in range(m):
+        i = order[r]
+        f[i] = d[i] * fs[r]
+        clamped[i] = held[r] or (not live[r] and (joint[i] or b[i] <= tol * b_max))
+    return f, clamped
+
+
+def _least_norm(S, envelope, b, joint, held, inv_w, dependent, tol):
+    """(outcome, f): the least-norm forces over the held rows, rows within ``dependent`` of the
+    span of those before them counting as redundant (lcp_minnorm's UNIQUE, DONE or FAILED; f
+    only with DONE)."""
+    first, offset, values = envelope
     m = b.size
     L, kept = np.empty(values.size), np.zeros(m, np.bool_)
-    if factor(first, offset, values, held, settings.LCP_DEPENDENT, L, kept) == held.sum():
-        return None
+    count, _ = env.factor(first, offset, values, held, dependent, L, kept)
+    if count == held.sum():
+        return UNIQUE, None
     basis, others = np.flatnonzero(kept), np.flatnonzero(held & ~kept)
     T = np.empty((basis.size, others.size))
     rhs, x = np.zeros(m), np.empty(m)
     for c, r in enumerate(others):
-        column = S[:, [r]].toarray().ravel()
-        rhs[:] = np.where(kept, column, 0.0)
-        solve(first, offset, L, rhs, x)
+        env.row_of(*S, r, kept, rhs)
+        env.solve(first, offset, L, rhs, x)
         T[:, c] = x[basis]
     rhs[:] = np.where(kept, -b, 0.0)
-    solve(first, offset, L, rhs, x)
+    env.solve(first, offset, L, rhs, x)
     f_basis, f_others = np.empty(basis.size), np.empty(others.size)
     done = dual_newton(
         T, x[basis].copy(), inv_w[basis], inv_w[others], joint[basis], joint[others], f_basis,
         f_others,
     )  # fmt: skip
     if not done:
-        return None
+        return FAILED, None
     f = np.zeros(m)
     f[basis], f[others] = f_basis, f_others
-    worst = np.max(np.abs(S @ f + b)[kept])
-    for _ in range(2):  # T may be ill-conditioned: refine a_B = 0 with the basis factor
-        rhs[:] = np.where(kept, S @ f + b, 0.0)
-        solve(first, offset, L, rhs, x)
-        trial = f - x
-        after = np.max(np.abs(S @ trial + b)[kept])
-        if not after < worst:
-            break
-        f, worst = trial, after
-    return np.where(joint, f, np.maximum(f, 0.0))
+    f = np.where(joint, f, np.maximum(f, 0.0))
+    f[np.abs(f) <= settings.LCP_NOISE * np.max(np.abs(f))] = 0.0  # rounding, as in lcp_minnorm
+    a, tol_a = np.empty(m), np.empty(m)
+    for _ in range(3):  # T may be ill-conditioned: refine a_B = 0 with the basis factor
+        if env.valid(*S, b, joint, f, tol, a, tol_a):
+            return DONE, f
+        rhs[:] = np.where(kept, a, 0.0)
+        env.solve(first, offset, L, rhs, x)
+        f = f - x
+        f = np.where(joint, f, np.maximum(f, 0.0))
+    return FAILED, None

@@ -20,11 +20,17 @@ Contact modes (:func:`classify`), decided per contact from its gap d and gap vel
 Hysteresis: a contact ``held`` (resting in the previous frame) rests up to d' = resting speed
 while it touches, so a contact about to lift off stays in the LCP, which lets it go (zero force)
 as soon as it pulls apart -- the lift-off is decided by the forces, not by speeds. Having drifted
-apart, up to the hold gap, it still rests unless it moves apart (faster than the creep speed: it
-is let go, since a force on a contact moving apart would do work) or comes back faster than the
-separation speed (its impact is located). So a contact in a settling pile that opens by
-nanometres and closes again slowly is one resting contact, not a stream of impacts; the price is
-that it may rest at a gap of up to the hold gap (never at a penetration).
+apart, up to the hold gap, it still counts as touching unless it moves apart faster than the
+resting speed (a force on a contact moving apart would do work): coming back, its impact is now.
+So a contact in a settling pile that opens by nanometres and closes again is one resting contact,
+not a stream of impacts; the price is that it may rest at a gap of up to the hold gap (never at
+a penetration).
+
+Impacts within a small window are resolved together: at an instant with an impact (a located
+event, or a step's start), a contact that is not touching yet but approaches within the hold gap
+(settings.HOLD touch, or the integrator's drift) would meet within microseconds; it takes its
+impulse now, with the others, instead of being located as an impact of its own a moment later.
+Its impact is then at a gap of at most the hold gap (1e-7 m by default), not 0.
 
 Restitution of a contact: the larger of its two bodies' (as Box2D), 0 below the resting speed;
 and 0 for a contact that was resting at the end of the last step and collides (a resting contact
@@ -87,8 +93,11 @@ def classify_modes(gap, rate, touch, hold_gap, resting_speed, separation_speed, 
     for k in range(gap.size):
         d, r = gap[k], rate[k]
         touching = d <= touch
-        if held[k] and not touching and d <= hold_gap:  # drifted open, still within reach
-            touching = -separation_speed <= r <= resting_speed
+        if not touching and d <= hold_gap:
+            if held[k]:  # drifted open, still within reach: rests unless it moves apart
+                touching = r <= resting_speed
+            else:  # about to close: its impact is now, with the others of this instant
+                touching = r < 0.0
         if not touching:
             out[k] = OPEN
         elif r < -resting_speed:

@@ -22,8 +22,16 @@ from runtime.solve.kernel_set import rows_by_case
 
 METHOD_ID = {"euler": 0, "midpoint": 1, "rk4": 2}
 
+# Not cached on disk: these take the kernels as function arguments, and numba keys their cache
+# entries by the kernels' dispatcher objects, which differ in every process. So no process ever
+# found another's entry (each compiled afresh and appended one more: the index grew by ~400 KB a
+# run), and a process re-saving the index re-pickled the earlier entries, whose dispatchers it
+# no longer had once the garbage collector ran: `ReferenceError: underlying object has vanished`,
+# a traceback from `simulate` on a valid scene (found by bench/soak.py's interrupted writes).
+UNCACHED = {"cache": False}
 
-@njit
+
+@njit(**UNCACHED)
 def accelerations(
     k0, k1, k2, k3, q, v, case, body1, body2, geometry, static2, offsets, guess,
     inv_mass, fixed, free_acc, tol, limit, acc, forces, rates,
@@ -50,7 +58,7 @@ def accelerations(
     return True
 
 
-@njit
+@njit(**UNCACHED)
 def step(
     k0, k1, k2, k3, method, q0, v0, h, a0, case, body1, body2, geometry, static2, offsets,
     guess, inv_mass, fixed, free_acc, tol, limit, q_out, v_out,

@@ -8,8 +8,9 @@ instant and restarts that island from there.
 
 * :func:`brackets` decides from (d, d') at both ends which contacts cross zero in the step and
   gives each an interval and a first guess: the root of the cubic Hermite interpolant of d (exact
-  for free flight, where d is a quadratic in time). It also catches a contact that dips below
-  zero and comes back within the step, and a touching contact that separates and comes back.
+  for free flight, where d is a quadratic in time), and a touching contact that separates and
+  comes back. A contact that dips below zero and comes back within the step (a near graze) is
+  checked against the real gap where the cubic's minimum is near zero (:func:`find_dip`).
 * A *fast pair*, one whose bodies move against each other by more than a fraction
   (settings.FAST_PAIR) of the smaller one's half width within the step, is sampled at enough
   instants that it cannot pass through the other body between two samples (a cubic fit of the
@@ -35,6 +36,7 @@ import numpy as np
 
 from runtime import settings
 from runtime.compiled import njit
+from runtime.step import pair_scan
 from runtime.step.classify import LIFTING, SEPARATING
 
 CROSS = "cross"  # open at the start, penetrating at the end
@@ -157,7 +159,13 @@ def _first_root(c: np.ndarray, lo: float, hi: float) -> float:
 def bracket_one(
     k: int, g0: float, v0: float, g1: float, v1: float, t0: float, span: float, touching: bool
 ) -> Bracket | None:
-    """The bracket of contact k over [t0, t0 + span] from (d, d') at both ends, or None."""
+    """The bracket of contact k over [t0, t0 + span] from (d, d') at both ends, or None.
+    A rate that is not finite (d' of two coincident circle centres: the normal, and so d', is
+    undefined there) is taken as the secant's, so the interpolant stays finite."""
+    if not (math.isfinite(v0) and math.isfinite(v1)):
+        secant = (g1 - g0) / span
+        v0 = v0 if math.isfinite(v0) else secant
+        v1 = v1 if math.isfinite(v1) else secant
     c = hermite(g0, v0, g1, v1, span)
     if touching:
         if g1 >= 0:
@@ -201,6 +209,47 @@ def brackets(
             found.append(b)
     found.sort(key=lambda b: b.guess)
     return found
+
+
+def find_dip(
+    gap: Callable[[float], tuple[float, float]],
+    k: int,
+    t0: float,
+    g0: float,
+    v0: float,
+    t1: float,
+    g1: float,
+    v1: float,
+) -> Bracket | None:
+    """The DIP bracket of contact k, open at t0 and t1 (d' < 0 at t0, d' > 0 at t1), if the
+    real gap ``gap(t) -> (d, d')`` goes below 0 in between; None if not.
+
+    The Hermite cubic alone misses a near graze: its error (span^4 / 384 times the fourth
+    derivative of d, ~1e-5 of the bodies' size over a quarter half-width of travel) exceeds a
+    shallow dip, and two discs passing at +-100 m/s with 1e-7 m of overlap went through
+    unnoticed. So the real d is checked at the cubic's minimum whenever that minimum is within
+    settings.DIP_SCREEN of its variation from 0, and the interval is narrowed to the side where
+    the real d' changes sign, until the real d is <= 0 there (a dip: bracket [t0, t]) or the
+    cubic's minimum is clearly positive."""
+    for _ in range(settings.DIP_LEVELS):
+        span = t1 - t0
+        c = hermite(g0, v0, g1, v1, span)
+        s = _extremum(c, minimum=True)
+        s = 0.5 if s is None else s
+        low = _value(c, s)
+        if low > settings.DIP_SCREEN * (max(g0, g1) - low):
+            return None
+        t = t0 + s * span
+        g, v = gap(t)
+        if g <= 0:
+            return Bracket(k, t0, t, t0 + _first_root(c, 0.0, s) * span, DIP, c, t0, span)
+        if not math.isfinite(v) or not t0 < t < t1:
+            return None
+        if v < 0:
+            t0, g0, v0 = t, g, v
+        else:
+            t1, g1, v1 = t, g, v
+    return None
 
 
 def locate(
@@ -269,35 +318,44 @@ class EventSearch:
         one. ``start``: the poses at the trial's start; ``trial_end``: the state at h of the
         whole trial; ``island_of_body``: island label per body (-1 for fixed bodies);
         ``trajectory(island)``: the island's own trajectory (t -> state) for locating."""
+        meets = pair_scan.unwatched_meetings(
+            self, frame, start, trial_end[0], h, island_of_body, trajectory
+        )
         watched = frame.monitored
         if watched.size == 0:
-            return {}
+            return meets
         contacts = frame.contacts.take(watched)
         g1, v1 = self.evaluator.gap_and_rate(contacts, *trial_end)
         g0, v0 = frame.rows.gap[watched], frame.rows.gap_velocity[watched]
         touching = np.isin(frame.modes[watched], (SEPARATING, LIFTING))
-        found = brackets(g0, v0, g1, v1, h, touching)
         island = self._islands(contacts, island_of_body)
-        fast = self._fast_pairs(contacts, touching, start, trial_end[0], h, island, trajectory)
-        have = {b.index for b in found}
-        found += [b for b in fast if b.index not in have]
+        gaps: dict[int, Callable] = {}
+
+        def gap_of(k: int) -> Callable:
+            if k not in gaps:
+                gaps[k] = self._gap_function(contacts, k, trajectory(int(island[k])))
+            return gaps[k]
+
+        fast, sampled_counts = self._fast_pairs(contacts, touching, start, trial_end[0], h, gap_of)
+        sampled = sampled_counts > 0
+        found = [b for b in brackets(g0, v0, g1, v1, h, touching) if b.kind != DIP]
+        found = [b for b in found if not sampled[b.index]] + fast
+        for k in np.flatnonzero(~touching & ~sampled & (g1 > 0) & (v0 < 0) & (v1 > 0)).tolist():
+            dip = find_dip(gap_of(k), k, 0.0, g0[k], v0[k], h, g1[k], v1[k])
+            if dip is not None:
+                found.append(dip)
         found.sort(key=lambda b: b.guess)
         resting = {frame.keys[k] for k in frame.resting}
         best: dict[int, float] = {}
         unconfirmed: dict[int, set] = {}
-        gaps: dict[int, Callable] = {}
         for bracket in found:
             k, g = bracket.index, int(island[bracket.index])
-            if k not in gaps:
-                gaps[k] = self._gap_function(contacts, k, trajectory(g))
-            gap = gaps[k]
+            gap = gap_of(k)
             hi = bracket.hi
             if g in best:
                 if bracket.lo >= best[g] or gap(best[g])[0] > 0:
                     continue
                 hi = min(hi, best[g])
-            elif bracket.kind == DIP and gap(hi)[0] > 0:
-                continue  # the cubic dipped, the real gap does not
             if bracket.kind == RETURN and gap(bracket.lo)[0] <= 0:
                 t, d = bracket.lo, 0.0  # it never really left: touching and approaching at lo
             else:
@@ -317,16 +375,20 @@ class EventSearch:
                 best[g] = t
             else:
                 unconfirmed.setdefault(g, set()).add(_pair(contacts, k))
-        closing = g1 < g0  # may meet at another feature on the way
+        closing = (g1 < g0) | sampled  # may meet at another feature on the way (or turn to it)
         for k in np.flatnonzero(closing):
             i, j = int(contacts.body1[k]), int(contacts.body2[k])
             if self.switches[i] or self.switches[j]:
                 unconfirmed.setdefault(int(island[k]), set()).add(_pair(contacts, k))
         keys = set(map(tuple, contacts.keys().tolist()))
+        known = set(frame.keys)
+        counts = {_pair(contacts, k): int(sampled_counts[k]) for k in np.flatnonzero(sampled)}
         for g, pairs in unconfirmed.items():
-            later = self._new_feature(pairs, keys, trajectory(g), best.get(g, h))
+            later = self._new_feature(pairs, keys, trajectory(g), best.get(g, h), known, counts)
             if later is not None:
                 best[g] = later
+        for g, t in meets.items():
+            best[g] = min(best.get(g, t), t)
         return best
 
     @staticmethod
@@ -336,34 +398,32 @@ class EventSearch:
         two = island_of_body[contacts.body2]
         return np.where(one >= 0, one, two)
 
-    def _fast_pairs(self, contacts, touching, q0, q1, h, island, trajectory) -> list:
-        """Brackets of the fast pairs (see the module docstring), found by sampling the
-        island's trajectory at instants closer than a fraction of the smaller half width of
-        relative travel."""
-        b1, b2 = contacts.body1, contacts.body2
-        moved = (q1[b1, :2] - q0[b1, :2]) - (q1[b2, :2] - q0[b2, :2])
-        travel = np.hypot(moved[:, 0], moved[:, 1])
-        travel += np.abs(q1[b1, 2] - q0[b1, 2]) * self.radii[b1]
-        travel += np.abs(q1[b2, 2] - q0[b2, 2]) * self.radii[b2]
-        size = np.minimum(self.half_width[b1], self.half_width[b2])
-        size = np.where(np.isfinite(size), size, np.maximum(self.radii[b1], self.radii[b2]))
+    def _fast_pairs(self, contacts, touching, q0, q1, h, gap_of) -> tuple[list, np.ndarray]:
+        """Brackets of the fast pairs (see the module docstring), found by sampling their
+        gaps (``gap_of(k)``: contact k's along its island's trajectory) at instants closer than
+        a fraction of the smaller half width of relative travel; and each contact's number of
+        samples (0: not sampled): the sampled ones' brackets replace those of the step's ends."""
+        counts = pair_scan.samples(self, contacts.body1, contacts.body2, q0, q1)
         out = []
-        for k in np.flatnonzero(travel > settings.FAST_PAIR * size).tolist():
-            samples = int(min(max(math.ceil(travel[k] / (settings.FAST_PAIR * size[k])), 2), 4096))
-            traj = trajectory(int(island[k]))
-            gap = self._gap_function(contacts, k, traj)
+        sampled = counts > 0
+        for k in np.flatnonzero(sampled).tolist():
+            samples = int(counts[k])
+            gap = gap_of(k)
             t_prev, (g_prev, v_prev) = 0.0, gap(0.0)
             for s in range(1, samples + 1):
                 t = h * s / samples
                 g_now, v_now = gap(t)
-                b = bracket_one(
-                    k, g_prev, v_prev, g_now, v_now, t_prev, t - t_prev, bool(touching[k])
-                )
+                # a touching contact that separated by the previous sample is an open one now
+                touches = bool(touching[k]) and g_prev <= self.touch
+                if not touches and g_now > 0 and v_prev < 0 < v_now:
+                    b = find_dip(gap, k, t_prev, g_prev, v_prev, t, g_now, v_now)
+                else:
+                    b = bracket_one(k, g_prev, v_prev, g_now, v_now, t_prev, t - t_prev, touches)
                 if b is not None:
                     out.append(b)
                     break
                 t_prev, g_prev, v_prev = t, g_now, v_now
-        return out
+        return out, counts
 
     def _gap_function(self, contacts, k: int, traj) -> Callable[[float], tuple[float, float]]:
         """t -> (d, d') of watched contact k along the island's trajectory; an oval's contact
@@ -384,22 +444,30 @@ class EventSearch:
         found = self.collider.pair(i, j, poses, self.touch)
         return any(key not in resting for key in map(tuple, found.keys().tolist()))
 
-    def _new_feature(self, pairs: set, watched_keys: set, traj, until: float) -> float | None:
+    def _new_feature(
+        self, pairs: set, watched_keys: set, traj, until: float, known: set, samples: dict
+    ) -> float | None:
         """Earliest impact, before ``until``, of a feature that a pair reaches only during the
         step: a pair closing in at one feature can meet at another (an edge's contact sliding
         onto its corner, a corner turning into an arc). A feature found penetrating at
         ``until``, not watched at the start and clear of the other body (by more than the touch
-        gap) then, is located like any other."""
+        gap) then, is located like any other. One that was behind its edge's line at the start
+        (beyond the edge's end: a turning body can bring a corner in across another feature)
+        is not a crossing of its kernel's gap; then, and for a fast pair (``samples``: the
+        pairs' sample counts), the pair's first touch at a feature not ``known`` (the start's
+        contacts) is found with the contact finder (runtime.step.pair_scan)."""
         poses = traj.at(until)[0]
         earliest = None
         for i, j in sorted(pairs):
             found = self.collider.pair(i, j, poses, 0.0)
+            located, unexplained = False, False
             for k, key in enumerate(map(tuple, found.keys().tolist())):
                 if key in watched_keys or found.gap[k] >= -self.touch:
                     continue
                 gap = self._gap_function(found, k, traj)
                 start, end = gap(0.0)[0], gap(until)[0]
                 if not (start > self.touch and end <= 0):
+                    unexplained |= key not in known
                     continue
                 t, d = locate(
                     gap,
@@ -409,8 +477,13 @@ class EventSearch:
                     gap_tol=settings.TOUCH_LOCATE * self.touch,
                     time_tol=settings.TIME_EPS * np.finfo(float).eps * until,
                 )
-                if d <= self.touch and (earliest is None or t < earliest):
-                    earliest = t
+                if d <= self.touch:
+                    located = True
+                    earliest = t if earliest is None else min(earliest, t)
+            if (unexplained or samples.get((i, j), 0)) and not located:
+                t = pair_scan.first_touch(self, i, j, traj, until, known, samples.get((i, j), 1))
+                if t is not None:
+                    earliest = t if earliest is None else min(earliest, t)
         return earliest
 
 

@@ -19,6 +19,11 @@ is a plastic landing, so it is applied at once:
 
 This repeats until it settles; contacts pressed once stay pressed in the later rounds (else
 pressing one set lets the last one drift apart again, and the rounds go back and forth).
+
+With stabilisation (runtime.solve.forces.Stabilisation) a penetrating contact is *meant* to move
+apart: the Baumgarte term drives it out along a critically damped path, whose speed never
+exceeds depth / T = depth x k_d / 2. Such a contact is not pressed (``recovery`` = k_d / 2), or the
+press would take that speed away at every step and the penetration would barely decay.
 """
 
 from __future__ import annotations
@@ -40,11 +45,14 @@ def settle(
     solve: Callable[[Frame], object],
     bodies: Bodies,
     creep_speed: float,
+    recovery: float = 0.0,
     rounds: int = settings.SETTLE_ROUNDS,
 ):
     """(frame, resting solution): ``frame`` with pressed contacts at rest and lifting ones
     marked, and ``solve(frame)`` of its resting set (an object with ``forces`` and
-    ``free_rates`` per resting contact, in frame.resting order, and ``accelerations``)."""
+    ``free_rates`` per resting contact, in frame.resting order, and ``accelerations``).
+    ``recovery`` (1/s): a penetrating contact moving apart at up to this x its depth is
+    recovering under the stabilisation, not moving apart (see the module docstring)."""
     solution = solve(frame)
     if len(frame.contacts) == 0:
         return frame, solution
@@ -52,7 +60,7 @@ def settle(
     for _ in range(rounds):
         modes, rate = frame.modes, frame.rows.gap_velocity
         rest, lift = frame.resting, frame.lifting
-        apart = rate[rest] > creep_speed
+        apart = rate[rest] > np.maximum(creep_speed, -recovery * frame.rows.gap[rest])
         if not apart.any() and lift.size == 0:
             break
         tol = settings.LCP_TOL * float(np.max(np.abs(solution.free_rates), initial=1.0))

@@ -1,6 +1,6 @@
 """`simulate`: a scene run for a duration on a World, recorded step by step into a Run.
 
-The recorded grid is t = k dt (the last step shortened so the run ends at the duration exactly);
+The recorded grid is t = k dt, exactly (the last step shortened so the run ends at the duration);
 impacts located inside steps are listed in ``Run.impact_times``. Each record holds the state at
 its time and the contacts resting there (with lifting ones) and their forces, as solved at the
 start of the step that follows (the last record: at the final state).
@@ -135,6 +135,14 @@ def _check_arguments(duration: float, dt: float, record_every: int) -> None:
         raise ValueError(f"record_every must be an integer >= 1, got {record_every!r}")
 
 
+def _grid(k: int, steps: int, dt: float, duration: float) -> float:
+    """The time of record k: k dt, and the duration at the last. A step goes from the World's
+    time to the next grid time, so the World's time is the grid's exactly (for k >= 1 the
+    difference of two grid times is exact, Sterbenz) instead of a sum of k rounded steps, and
+    the run ends at the duration exactly."""
+    return duration if k >= steps else k * dt
+
+
 def simulate(
     scene,
     duration: float | None = None,
@@ -168,7 +176,7 @@ def simulate(
     lost = 0.0  # at impacts since the last record
     try:
         for k in range(steps):
-            h = min(dt, duration - k * dt) if k == steps - 1 else dt
+            h = _grid(k + 1, steps, dt, duration) - world.t
             before = (world.t, world.poses, world.velocities, world.energy())
             report = world.step(h)
             if k % record_every == 0:

@@ -45,6 +45,7 @@ from runtime.step.classify import LIFTING, RESTING, Bodies, Frame, Limits, make_
 from runtime.step.collision import Collision
 from runtime.step.events import EventSearch
 from runtime.step.integrators import FIXED_STEP, Trajectory
+from runtime.step.pair_scan import IslandsMeet
 from runtime.step.resting import settle
 
 
@@ -95,6 +96,7 @@ class Stepper:
         self.evaluator = RowEvaluator(scene.contact_cases(), self.fixed)
         self.forces = ContactForces(scene, stabilisation)
         self.with_gaps = stabilisation is not None
+        self.recovery = 0.0 if stabilisation is None else 0.5 * stabilisation.damping
         self.resting_speed = resting_speed
         self.touch = min(settings.TOUCH, scene.contact_tolerance)
         self.gravity = float(np.hypot(*scene.gravity))
@@ -146,7 +148,9 @@ class Stepper:
         if done is None:
             frame = make_frame(self.evaluator, self.bodies, contacts, q, v, margin, self.held,
                                limits, self.recent, keys)  # fmt: skip
-            done = settle(frame, partial(self.solve, q), self.bodies, limits.creep_speed)
+            done = settle(
+                frame, partial(self.solve, q), self.bodies, limits.creep_speed, self.recovery
+            )
         self._hold(done[0], active)
         return done
 
@@ -281,7 +285,7 @@ class Stepper:
         report = StepReport()
         try:
             q1, v1 = self._advance(q, v, h, limits, report, split=True)
-        except _Merge:
+        except (_Merge, IslandsMeet):
             self.held, report = held, StepReport()
             q1, v1 = self._advance(q, v, h, limits, report, split=False)
         return q1, v1, report

@@ -103,3 +103,28 @@ def test_the_contract_lists_every_geometry_argument_once():
         assert all((c < 3) == name.endswith("1") for name, c in columns.items())
         assert len(set(columns.values())) == len(columns)
     assert sorted(generated.CASE_ID.values()) == list(range(len(generated.CASE_ID)))
+
+
+@pytest.mark.parametrize("case", ["circle_circle", "vertex_circle"])
+def test_coincident_centres_give_nan_rates_as_the_numpy_kernels(case):
+    """d' of a contact whose two circle centres coincide (or a vertex on the circle's centre) is
+    0/0: NaN from both variants, not a ZeroDivisionError from the compiled one (numba's 'numpy'
+    error model), so the engine can treat it (runtime.step.events takes the secant instead)."""
+    numpy_module = importlib.import_module(f"generated.{case}")
+    compiled = importlib.import_module(f"generated.compiled.{case}")
+    columns = generated.GEOMETRY_COLUMNS[case]
+    poses = np.array([[0.5, -0.25, 0.0], [0.5, -0.25, 0.0]])  # both bodies' origins together
+    velocities = np.array([[1.0, 2.0, 0.0], [0.0, 0.0, 0.0]])
+    geometry = np.zeros((1, 7))
+    if "r1" in columns:
+        geometry[0, columns["r1"]] = 0.1
+    geometry[0, columns["r2"]] = 0.1
+    out = np.zeros(1)
+    args = (poses, velocities, np.array([0]), np.array([1]), geometry)
+    compiled.batch_gap_velocity(*args, np.array([False]), np.array([0]), out)
+    values = _numpy_values(case, *args)
+    with np.errstate(all="ignore"):
+        expected = numpy_module.gap_velocity(
+            **{k: values[k] for k in numpy_module.ARGUMENTS["gap_velocity"]}
+        )
+    assert np.isnan(out[0]) and np.isnan(expected)

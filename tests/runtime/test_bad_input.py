@@ -122,6 +122,9 @@ SCENE_CASES: list[Case] = [
          ("field 'bodies'", "unknown key", "did you mean 'body'?")),
     Case("unknown keys", "misspelt shape parameter", 'shape = { type = "disc", radus = 0.1 }',
          scene_text(shape='{ type = "disc", radus = 0.1 }')),
+    Case("unknown keys", "empty key", 'shape = { type = "disc", radius = 0.1, "" = 1 }',
+         scene_text(shape='{ type = "disc", radius = 0.1, "" = 1 }'),
+         ("field 'shape.\"\"'", "unknown key")),
     # keys naming features the engine lacks, or another engine's word for a valid one
     Case("unsupported", "friction on a body", "friction = 0.5", scene_text(friction="0.5"),
          ("body 'disc' (#2): field 'friction'", "friction is not supported yet: contacts are "

@@ -237,9 +237,13 @@ def test_contact_modes_are_explicit():
         (5e-8, 1e-12, True, Mode.RESTING),  # drifted apart by less than the hold gap
         (5e-8, -1e-4, True, Mode.RESTING),  # and coming back slowly: no new impact
         (5e-8, 1e-4, True, Mode.RESTING),  # moving apart slowly: pressed or lifting (resting.py)
-        (5e-8, -2e-3, True, Mode.OPEN),  # coming back fast: its impact is located
+        (5e-8, -2e-3, True, Mode.COLLIDING),  # coming back fast: its impact is now
+        (5e-8, 2e-3, True, Mode.OPEN),  # moving apart fast: let go
         (1e-6, 1e-4, True, Mode.OPEN),  # beyond the hold gap: let go
-        (5e-8, -1e-4, False, Mode.OPEN),  # a new contact must close to d = 0 first
+        (1e-6, -1e-4, False, Mode.OPEN),  # beyond the hold gap: its impact will be located
+        (5e-8, -1e-4, False, Mode.RESTING),  # closing within the hold gap: plastic now
+        (5e-8, -0.5, False, Mode.COLLIDING),  # ... and with restitution when fast
+        (5e-8, 1e-4, False, Mode.OPEN),  # within the hold gap but moving apart: open
     ]
     gap, dv, held, expected = (np.array(c) for c in zip(*cases, strict=True))
     modes = classify(gap, dv, limits, held.astype(bool))

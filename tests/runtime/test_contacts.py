@@ -5,6 +5,7 @@ the whole scene, the broad phase against all pairs, possible_cases, argument che
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import math
 import re
@@ -404,6 +405,64 @@ def test_broad_phase_finds_exactly_the_overlapping_circles(n, seed, margin):
     assert list(zip(i.tolist(), j.tolist(), strict=True)) == want
 
 
+@settings(derandomize=True, max_examples=30, deadline=None)
+@given(st.integers(0, 60), st.integers(0, 10_000), st.floats(0, 0.5))
+def test_broad_phase_with_groups_pairs_only_one_group_or_group_minus_one(n, seed, margin):
+    rng = np.random.default_rng(seed)
+    centres = rng.uniform(-2, 2, (n, 2))  # crowded: most circles of different groups overlap
+    radii = rng.uniform(0.05, 1.0, n) ** 2
+    fixed = rng.random(n) < 0.2
+    groups = rng.integers(-1, 4, n)
+    i, j = candidate_pairs(centres, radii, fixed, margin, groups)
+    want = [(a, b) for a in range(n) for b in range(a + 1, n)
+            if not (fixed[a] and fixed[b]) and (groups[a] == groups[b] or -1 in (groups[a], groups[b]))
+            and np.hypot(*(centres[a] - centres[b])) <= radii[a] + radii[b] + margin]  # fmt: skip
+    assert list(zip(i.tolist(), j.tolist(), strict=True)) == want
+
+
+def test_copies_in_collision_groups_find_each_copy_s_own_contacts():
+    """Copies of a scene laid over each other, one collision group each, sharing the walls
+    (group -1) and each with its own bowl: the contacts found together are those of each copy
+    found alone (same rows, bit for bit, indices moved), and no pair joins two copies."""
+    walls, bowl, *moving = mixed_scene(0)[0]
+    copies = [mixed_scene(seed)[1] for seed in range(6)]  # same bodies, other poses
+    bodies, poses, groups = [walls], [copies[0][0]], [-1]
+    for c, q in enumerate(copies):
+        bodies += [bowl, *moving]
+        poses += list(q[1:])
+        groups += [c] * (1 + len(moving))
+    fixed = [True] + [True, *[False] * len(moving)] * len(copies)
+    together = ContactFinder(bodies, fixed, groups).find(np.array(poses), 0.3)
+    check_contacts(together, np.array(poses))
+    want = []
+    for c, q in enumerate(copies):
+        alone = find_contacts([walls, bowl, *moving], q, [True, True, *[False] * len(moving)], 0.3)
+        index = np.r_[0, 1 + c * (1 + len(moving)) + np.arange(1 + len(moving))]
+        moved = dataclasses.replace(alone, body1=index[alone.body1], body2=index[alone.body2])
+        want += rows(moved)
+    assert len(want) > 30
+    key = lambda r: (min(r.body1, r.body2), max(r.body1, r.body2), r.feature)  # noqa: E731
+    assert sorted(rows(together), key=key) == sorted(want, key=key)
+    group = np.array(groups)
+    one, two = group[together.body1], group[together.body2]
+    assert np.all((one == two) | (one == -1) | (two == -1))
+
+
+@pytest.mark.parametrize(
+    ("groups", "words"),
+    [
+        ([0], "one group per shape (2), got 1"),
+        ([0, -2], "groups[1] = -2.0"),
+        ([0, 0.5], "groups[1] = 0.5"),
+        ([0, float("nan")], "groups[1] = nan"),
+        (["a", 0], "groups must be integers"),
+    ],
+)
+def test_groups_are_checked(groups, words):
+    with pytest.raises(ValueError, match=re.escape(words)):
+        ContactFinder([FLOOR, SQUARE], [True, False], groups)
+
+
 def test_narrow_phase_only_sees_broad_phase_pairs():
     bodies = [FLOOR, SQUARE, SQUARE, PENTAGON, FLOOR]
     poses = np.array([[0, 0, 0], [0, 0.5, 0], [3.0, 0.5, 0.3], [0, 7.0, 0], [0, 20.0, 0]])
@@ -411,9 +470,20 @@ def test_narrow_phase_only_sees_broad_phase_pairs():
     finder = ContactFinder(bodies, fixed)
     rows_, start, body, owner = finder.tables[:4]
     cand, inputs = np.zeros((1000, finder._candidates.shape[1])), finder._kernel_inputs
-    allowed = np.ones(5, dtype=bool)
+    everyone, no_groups = np.ones(5, dtype=bool), np.zeros(0, dtype=np.int64)
     count = find_candidates(
-        poses, 1e-6, np.zeros(5), allowed, rows_, start, body, owner, False, cand, inputs
+        poses,
+        1e-6,
+        np.zeros(5),
+        everyone,
+        no_groups,
+        rows_,
+        start,
+        body,
+        owner,
+        False,
+        cand,
+        inputs,
     )
     seen = {tuple(sorted(p)) for p in cand[:count, [BODY1, BODY2]].astype(int).tolist()}
     reach = body[:, 2] + 0.5e-6

@@ -15,6 +15,7 @@ import pytest
 
 import runtime
 from runtime.collide import sweep
+from runtime.step import pair_scan
 from runtime.step.guards import FixedEdges
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
@@ -69,10 +70,12 @@ def test_paths_across_a_bowl_arc_but_not_its_open_top():
 
 
 def test_a_disc_made_to_pass_through_a_wall_is_stopped(monkeypatch):
-    """With the swept contact search switched off, the disc of wall_shot (100 m/s, dt = 1/60 s)
-    jumps over the 1 cm wall in one step; the guard names it and keeps the state before."""
+    """With the swept contact search switched off (and the search for fast pairs that no
+    contact watches), the disc of wall_shot (100 m/s, dt = 1/60 s) jumps over the 1 cm wall in
+    one step; the guard names it and keeps the state before."""
     monkeypatch.setattr(sweep, "margins", lambda v, h, radii, moving, g: np.zeros(len(radii)))
     monkeypatch.setattr(sweep, "outran", lambda *args: False)
+    monkeypatch.setattr(pair_scan, "unwatched_meetings", lambda *args: {})
     scene = runtime.load_scene(SCENES / "wall_shot.toml")
     with pytest.raises(runtime.SimulationError) as info:
         runtime.simulate(scene, duration=0.05, dt=1.0 / 60.0)
@@ -83,3 +86,18 @@ def test_a_disc_made_to_pass_through_a_wall_is_stopped(monkeypatch):
     off = runtime.Guards(penetration=None)
     run = runtime.simulate(scene, duration=0.05, dt=1.0 / 60.0, guards=off)
     assert run.poses[-1][scene.index("disc"), 0] > 1.0  # without the guard: through, silently
+
+
+def test_a_disc_past_the_swept_search_is_still_stopped_at_the_wall(monkeypatch):
+    """The swept contact search switched off, but not the search for fast pairs that no contact
+    watches: the disc of wall_shot (100 m/s, dt = 1/60 s, 1.7 m a step) is not seen next to
+    the wall at any step's start, yet its first touch is located and it bounces off the 1 cm
+    wall at t = 0.975 m / 100 m/s (restitution 0.5: -50 m/s after), never through it."""
+    monkeypatch.setattr(sweep, "margins", lambda v, h, radii, moving, g: np.zeros(len(radii)))
+    monkeypatch.setattr(sweep, "outran", lambda *args: False)
+    scene = runtime.load_scene(SCENES / "wall_shot.toml")
+    run = runtime.simulate(scene, duration=0.05, dt=1.0 / 60.0)
+    disc = scene.index("disc")
+    assert run.impact_times.tolist() == pytest.approx([0.975 / 100.0], abs=1e-12)
+    assert run.velocities[-1][disc, 0] == pytest.approx(-50.0, rel=1e-12)
+    assert run.max_penetration <= 1e-9

@@ -625,3 +625,56 @@ def test_disc_that_exactly_fits_its_bowl(radius):
     _check(
         f"exact fit r = {radius}: force, relative", np.max(np.abs(forces / (mass * G) - 1)), 1e-12
     )
+
+
+@pytest.mark.parametrize("dt", [1e-3, 1e-4])
+def test_disc_that_exactly_fits_its_bowl_moving_sideways(dt):
+    """The exactly fitting disc (r = R = 0.1) moving sideways at 0.3 m/s in a half-circle bowl
+    (its span covers the direction of motion). Physically a plastic impact at t = 0 stops it
+    (no velocity along +-x is admissible). The engine cannot choose a normal at coincident
+    centres, so the first step is free: the disc moves v dt sideways and g dt^2 / 2 down;
+    then the contact (normal along c1 - c2) stops it from going deeper, and it hangs there as
+    a pendulum of length v dt about the bowl's centre (issue #13: "sinks 3e-4 m and stays";
+    docs/numerics.md §2.9). Asserted: the sink never exceeds that first step's displacement
+    (3.0e-4 m at dt = 1 ms, 3.0e-5 m at 0.1 ms: O(dt), measured equal to it to 1e-9), the
+    disc stays in the bowl (no failure, no NaN), and the energy does not grow."""
+    v = 0.3
+    bowl = {"type": "bowl", "radius": 0.1, "start_angle": -math.pi, "end_angle": 0.0}
+    scene = make_scene(fixed("bowl", bowl), disc("disc", 0.1, (0.0, 0.0), velocity=[v, 0.0]))
+    run = simulate(scene, 1.0, dt)
+    first = math.hypot(v * dt, G * dt**2 / 2)
+    sink = np.hypot(run.poses[:, 1, 0], run.poses[:, 1, 1])
+    _check(f"exact fit sideways dt = {dt}: sink / first step", np.max(sink) / first, 1 + 1e-9)
+    assert sink[-1] >= 0.99 * first  # it stays down: nothing pushes the overlap out
+    assert run.max_penetration == pytest.approx(np.max(sink), rel=1e-6)
+    assert np.max(run.energy - run.energy[0]) <= 1e-9 * run.energy[0]
+
+
+def test_disc_that_exactly_fits_a_bowl_with_open_ends_leaves_through_an_end():
+    """The shipped bowl's span (-150 .. -30 degrees) does not cover the direction of motion:
+    without end corners (end_vertices = false, the default) nothing holds the disc where the
+    arc ends, it slides out through the arc near its end, and the penetration guard stops the
+    run naming the pair; with end corners the end stops it (a plastic impact at t = 0 along
+    the end's direction u, taking m (v.u)^2 / 2), it pivots about the end (no energy lost),
+    rises 1.2 mm and comes back to the centre, where a located plastic impact on the arc
+    takes the rest of its kinetic energy: at rest at the centre, no penetration."""
+    v, dt = 0.3, 1e-3
+    span = {"start_angle": -5 * math.pi / 6, "end_angle": -math.pi / 6}
+    for corners in (False, True):
+        bowl = {"type": "bowl", "radius": 0.1, **span, "end_vertices": corners}
+        scene = make_scene(fixed("bowl", bowl), disc("disc", 0.1, (0.0, 0.0), velocity=[v, 0.0]))
+        if not corners:
+            with pytest.raises(runtime.SimulationError, match=r"left disc/bowl overlapping by"):
+                runtime.simulate(scene, 1.0, dt)
+            continue
+        run = simulate(scene, 1.0, dt)
+        kinetic = 0.5 * scene.bodies[1].mass * v**2
+        loss = kinetic * math.cos(math.pi / 6) ** 2
+        assert run.impact_losses[1] == pytest.approx(loss, rel=1e-12)
+        back = int(np.searchsorted(run.t, run.impact_times[-1]))  # the return to the centre
+        assert len(run.impact_times) == 1 and back > 1
+        assert np.max(np.abs(run.energy[1:back] - (run.energy[0] - loss))) <= 1e-9 * kinetic
+        assert np.sum(run.impact_losses) == pytest.approx(kinetic, rel=1e-9)  # all of it
+        assert run.max_penetration <= 1e-12
+        assert np.max(np.abs(run.poses[-1, 1])) <= 1e-12
+        assert np.max(np.abs(run.velocities[-1, 1])) <= 1e-12

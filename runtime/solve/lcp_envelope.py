@@ -1,0 +1,208 @@
+"""Compiled sparse kernels of the contact-force solve: the scaled matrix, its envelope factor.
+
+Why: a pile's A has a handful of non-zeros per row, and in reverse Cuthill-McKee order they
+sit in a narrow band (the envelope, or profile). A Cholesky factor keeps the envelope of the
+matrix (fill stays inside it), so it is stored the same way -- row i from its first non-zero
+column to the diagonal, packed -- and costs O(m * bandwidth^2) instead of O(m^3). Like the
+dense factor (runtime.solve.lcp_factor) it leaves out a row whose pivot is below ``dependent``
+of its diagonal plus the pivot's own rounding: such a row depends on the rows kept before it
+(a redundant contact), and gets an identity row and a zero column, so the factor solves the
+block of the kept rows. scipy's splu cannot do that: on a singular block it fails or returns
+garbage.
+
+Also here: building S = D A D from the lower triangle of A (mirrored, so S is exactly
+symmetric) in a given order, and checking a CSR matrix as runtime.solve.lcp_problem.prepare
+does a dense one, without scipy's temporaries.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from runtime import settings
+from runtime.compiled import njit
+from runtime.solve.lcp_baraff import tolerance_floor
+
+_ROUNDING = settings.LCP_PIVOT_ROUNDING
+_SYMMETRIC = settings.LCP_SYMMETRY
+FINE, NOT_FINITE, NEGATIVE_DIAGONAL, NOT_SYMMETRIC, NOT_PSD = 0, 1, 2, 3, 4  # check_csr
+
+
+@njit
+def check_csr(indptr, indices, data, diag):
+    """FINE, or the first problem of a CSR matrix with sorted indices: a value not finite, a
+    negative diagonal, A_ij != A_ji (beyond 1e-8 sqrt(A_ii A_jj)), |A_ij| > sqrt(A_ii A_jj)."""
+    m = indptr.size - 1
+    for i in range(m):
+        if not np.isfinite(diag[i]):
+            return NOT_FINITE
+        if diag[i] < 0.0:
+            return NEGATIVE_DIAGONAL
+    for i in range(m):
+        for p in range(indptr[i], indptr[i + 1]):
+            j, v = indices[p], data[p]
+            if not np.isfinite(v):
+                return NOT_FINITE
+            bound = math.sqrt(diag[i] * diag[j])
+            lo, hi = indptr[j], indptr[j + 1]  # A_ji by bisection in row j
+            while lo < hi:
+                mid = (lo + hi) // 2
+                if indices[mid] < i:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            mirror = data[lo] if lo < indptr[j + 1] and indices[lo] == i else 0.0
+            if abs(v - mirror) > _SYMMETRIC * bound:
+                return NOT_SYMMETRIC
+            if abs(v) > (1.0 + _SYMMETRIC) * bound:
+                return NOT_PSD
+    return FINE
+
+
+@njit
+def scaled(indptr, indices, data, d, position):
+    """CSR of S = D A D with rows and columns renumbered (row i of A is row position[i] of S),
+    built from A's lower triangle and its mirror image."""
+    m = d.size
+    count = np.zeros(m + 1, np.int64)
+    for i in range(m):
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if j <= i:
+                count[position[i] + 1] += 1
+                if j < i:
+                    count[position[j] + 1] += 1
+    out_ptr = np.cumsum(count)
+    fill = out_ptr[:-1].copy()
+    out_idx = np.empty(out_ptr[m], np.int64)
+    out_val = np.empty(out_ptr[m])
+    for i in range(m):
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if j <= i:
+                v = d[i] * data[p] * d[j]
+                r, c = position[i], position[j]
+                out_idx[fill[r]], out_val[fill[r]] = c, v
+                fill[r] += 1
+                if j < i:
+                    out_idx[fill[c]], out_val[fill[c]] = r, v
+                    fill[c] += 1
+    return out_ptr, out_idx, out_val
+
+
+@njit
+def envelope(indptr, indices, data):
+    """The lower envelope of a symmetric CSR matrix: first column of each row, offsets and the
+    values S[i, first[i]..i] of each row, packed (the factor has the same envelope)."""
+    m = indptr.size - 1
+    first = np.arange(m)
+    for i in range(m):
+        for p in range(indptr[i], indptr[i + 1]):
+            first[i] = min(first[i], indices[p])
+    offset = np.zeros(m + 1, np.int64)
+    for i in range(m):
+        offset[i + 1] = offset[i] + i - first[i] + 1
+    values = np.zeros(offset[m])
+    for i in range(m):
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if j <= i:
+                values[offset[i] + j - first[i]] += data[p]
+    return first, offset, values
+
+
+@njit
+def factor(first, offset, values, member, dependent, L, kept):
+    """Skyline Cholesky of S over the rows in ``member``, leaving out each row whose pivot is
+    below ``dependent`` of its diagonal plus its rounding (runtime.solve.lcp_factor.trial) --
+    it depends on the rows kept before it -- and rows with S_ii = 0. Returns the number of rows
+    kept and the smallest pivot / diagonal among them (1 if none)."""
+    m = first.size
+    count, smallest = 0, 1.0
+    for i in range(m):
+        base, lo = offset[i], first[i]
+        diag = values[base + i - lo]
+        kept[i] = False
+        for j in range(lo, i):
+            L[base + j - lo] = 0.0
+        L[base + i - lo] = 1.0
+        if not member[i] or not diag > 0.0:
+            continue
+        pivot, noise = diag, diag
+        for j in range(lo, i):
+            if not kept[j]:
+                continue
+            bj, lj = offset[j], first[j]
+            s = values[base + j - lo]
+            for p in range(max(lo, lj), j):
+                s -= L[base + p - lo] * L[bj + p - lj]
+            ljj = L[bj + j - lj]
+            s /= ljj
+            L[base + j - lo] = s
+            pivot -= s * s
+            noise += s * s * values[bj + j - lj] / (ljj * ljj)
+        if pivot > dependent * diag + _ROUNDING * noise:
+            L[base + i - lo] = math.sqrt(pivot)
+            kept[i] = True
+            count += 1
+            smallest = min(smallest, pivot / diag)
+        else:
+            for j in range(lo, i):
+                L[base + j - lo] = 0.0
+    return count, smallest
+
+
+@njit
+def solve(first, offset, L, rhs, x):
+    """x = (L L^T)^-1 rhs (rhs must be 0 at rows left out: x is 0 there)."""
+    m = first.size
+    for i in range(m):
+        base, lo = offset[i], first[i]
+        s = rhs[i]
+        for p in range(lo, i):
+            s -= L[base + p - lo] * x[p]
+        x[i] = s / L[base + i - lo]
+    for i in range(m - 1, -1, -1):
+        base, lo = offset[i], first[i]
+        x[i] /= L[base + i - lo]
+        for p in range(lo, i):
+            x[p] -= L[base + p - lo] * x[i]
+
+
+@njit
+def residual(indptr, indices, data, b, f, tol, a, tol_a):
+    """a = S f + b and each row's tolerance tol * (sum_j |S_ij f_j| + |b_i|) + the floor
+    (runtime.solve.lcp_baraff.residual), S in CSR."""
+    floor = tolerance_floor(b, f)
+    for i in range(b.size):
+        s, size = b[i], abs(b[i])
+        for p in range(indptr[i], indptr[i + 1]):
+            t = data[p] * f[indices[p]]
+            s += t
+            size += abs(t)
+        a[i] = s
+        tol_a[i] = tol * size + floor
+
+
+@njit
+def valid(indptr, indices, data, b, joint, f, tol, a, tol_a):
+    """Every LCP condition within the row tolerances (f must be >= 0 at contacts already)."""
+    residual(indptr, indices, data, b, f, tol, a, tol_a)
+    for i in range(b.size):
+        if joint[i] or f[i] > 0.0:
+            if not abs(a[i]) <= tol_a[i]:
+                return False
+        elif not a[i] >= -tol_a[i]:
+            return False
+    return True
+
+
+@njit
+def row_of(indptr, indices, data, r, kept, out):
+    """out = row r of S (= column r), kept entries only."""
+    out[:] = 0.0
+    for p in range(indptr[r], indptr[r + 1]):
+        if kept[indices[p]]:
+            out[indices[p]] = data[p]

@@ -273,8 +273,8 @@ class Shape:
 
     ``parts``: a compound body (runtime.model.shape_library.compound): closed convex parts
     that do not overlap; ``edges`` and ``vertices`` are then the parts' in order, so a
-    feature index names one part's feature, and the mass properties (Green's theorem over
-    every loop) are the union's.  ``_cache`` holds derived tables (the narrow phase's
+    feature index names one part's feature, and the mass properties are the union's: the
+    sums of the parts' (parallel-axis theorem for the moment).  ``_cache`` holds derived tables (the narrow phase's
     features)."""
 
     edges: tuple[Edge, ...]
@@ -306,7 +306,12 @@ class Shape:
                 raise ValueError("Shape: a compound's edges and vertices are its parts', in order")
             object.__setattr__(self, "parts", parts)
         area, cx, cy, jc = 0.0, 0.0, 0.0, 0.0
-        if self.closed:
+        if parts:  # the parts' own (well conditioned for thin parts far from edges[0])
+            area = math.fsum(p.area for p in parts)
+            cx = math.fsum(p.area * p.centroid[0] for p in parts) / area
+            cy = math.fsum(p.area * p.centroid[1] for p in parts) / area
+            jc = math.fsum(p.second_moment_about((cx, cy)) for p in parts)
+        elif self.closed:
             ox, oy = edges[0].first
             terms = [_edge_terms(e, ox, oy) for e in edges]
             area = math.fsum(t[0] for t in terms)

@@ -7,6 +7,7 @@ docs/conventions.md (tests/contact_reference.py)."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -328,3 +329,32 @@ def test_two_compound_bodies_contact_part_to_part():
     found = find([FRAME, FRAME], [[0, 0, 0], [1.1 + gap, 0.2, 0.0]], [False, False], 0.01)
     assert found and all({c.body1, c.body2} == {0, 1} for c in found)
     assert all(c.gap == pytest.approx(gap, abs=1e-14) for c in found)
+
+
+# -- scene files -------------------------------------------------------------------------------
+
+DATA = Path(__file__).resolve().parent / "data"
+
+
+def test_compound_written_part_by_part_in_a_scene_file():
+    """tests/runtime/data/hammer.toml: a handle (0.45 x 0.04) and a head (0.1 x 0.2), the
+    centre of mass given at the head's centre: the inertia about it by parallel axes, the pose
+    that point's, as Body.from_shape gives for the same compound."""
+    scene = runtime.load_scene(DATA / "hammer.toml")
+    hammer = scene.body("hammer")
+    handle = (0.45 * 0.04, (0.225, 0.0), rectangle_j(0.45, 0.04))
+    head = (0.1 * 0.2, (0.5, 0.0), rectangle_j(0.1, 0.2))
+    j = sum(jc + a * ((c[0] - 0.5) ** 2 + c[1] ** 2) for a, c, jc in (handle, head))
+    assert hammer.mass == 1.2
+    assert hammer.inertia == pytest.approx(1.2 * j / (handle[0] + head[0]), rel=1e-13)
+    th = 0.3
+    assert hammer.position == pytest.approx(
+        (0.5 * math.cos(th), 0.5 + 0.5 * math.sin(th)), rel=1e-15
+    )
+    built = Body.from_shape(
+        "hammer",
+        shapes.compound([box(0.0, -0.02, 0.45, 0.02), box(0.45, -0.1, 0.55, 0.1)]),
+        mass=1.2, center_of_mass=(0.5, 0.0), position=(0.0, 0.5), angle=th,
+    )  # fmt: skip
+    assert built.shape == hammer.shape and built.inertia == hammer.inertia
+    assert built.position == hammer.position

@@ -15,6 +15,7 @@ the step's owner: treat a body whose centre of mass is outside its material as h
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -94,23 +95,11 @@ def _angular_momentum(scene: runtime.Scene, poses: np.ndarray, velocities: np.nd
 
 def test_two_balls_in_a_free_hollow_frame_conserve_momentum_and_energy():
     """Two balls bouncing inside a free 1 x 0.6 frame (bars 0.05 thick), no gravity,
-    restitution 1: a dozen impacts on the frame's inner sides and between the balls keep the
+    restitution 1 (tests/runtime/data/balls_in_frame.toml): a dozen impacts on the frame's inner sides and between the balls keep the
     linear momentum, the angular momentum and the energy to 1e-12 (relative), and the balls
     stay inside the opening."""
-    e = 1.0
-    spec = {
-        "scene": {"gravity": [0.0, 0.0]},
-        "body": [
-            {"name": "frame", "shape": {"type": "frame", "width": 1.0, "height": 0.6, "thickness": 0.05},
-             "density": 50.0, "position": [0.0, 0.0], "velocity": [0.1, -0.05], "restitution": e},
-            {"name": "a", "shape": {"type": "disc", "radius": 0.1}, "mass": 0.5,
-             "position": [-0.2, 0.05], "velocity": [1.0, 0.4], "restitution": e},
-            {"name": "b", "shape": {"type": "disc", "radius": 0.08}, "mass": 0.3,
-             "position": [0.25, -0.1], "velocity": [-0.7, 0.9], "restitution": e},
-        ],
-    }  # fmt: skip
-    scene = runtime.scene_from_dict(spec, source="frame")
-    run = runtime.simulate(scene, duration=1.5, dt=1e-3, guards=NO_PASS_GUARD)
+    scene = runtime.load_scene(Path(__file__).resolve().parent / "data" / "balls_in_frame.toml")
+    run = runtime.simulate(scene, guards=NO_PASS_GUARD)  # 1.5 s in steps of 1 ms
     assert len(run.impact_times) >= 8
     p0 = run.momentum[0]
     assert np.abs(run.momentum - p0).max() <= 1e-12 * np.hypot(*p0)

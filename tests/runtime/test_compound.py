@@ -252,10 +252,12 @@ def test_disc_in_a_moving_cup(along, gap, th, x, first):
     assert c.gap == pytest.approx(gap, abs=1e-13)
 
 
-def test_square_corner_in_a_moving_cup_is_vertex_circle():
-    """A square standing on a corner at the bottom of a tilted cup: vertex_circle, the corner
-    at R - gap from the arc centre."""
-    h, gap, th = 0.1, 0.004, 0.3
+@pytest.mark.parametrize("gap", [0.004, 0.0, -0.004])
+def test_square_corner_in_a_moving_cup_is_vertex_circle(gap):
+    """A square standing on a corner at the bottom of a tilted cup, touching, apart or
+    slightly in (its way out of the cup's material is back through the inner arc):
+    vertex_circle, the corner at R - gap from the arc centre."""
+    h, th = 0.1, 0.3
     cup_pose = np.array([1.0, 2.0, th])
     centre = world(cup_pose, -np.asarray(CUP_OFFSET))
     down = np.array([math.sin(th), -math.cos(th)])  # the cup's own -y
@@ -290,16 +292,17 @@ def test_disc_in_the_hollow_of_a_moving_cup_has_no_contact():
 
 
 @given(
-    x=st.floats(-0.4, 0.4),
-    y=st.floats(-0.2, 0.2),
+    x=st.floats(-0.41, 0.41),
+    y=st.floats(-0.21, 0.21),
     th=st.floats(-math.pi, math.pi),
     X=st.floats(-2.0, 2.0),
 )
 @settings(max_examples=60, deadline=None)
 def test_disc_in_a_moving_frame_against_the_distances_to_its_inner_sides(x, y, th, X):
-    """A disc (r = 0.1) anywhere in the 1 x 0.6 opening of a rotated, moving frame: one
-    circle_edge contact per inner side within the tolerance, each with the gap
-    distance - r, the frame as body 2, no corner contact (the inner corners are reflex)."""
+    """A disc (r = 0.1) anywhere in the 1 x 0.6 opening of a rotated, moving frame, up to
+    0.01 m into a side (less than half the bars' thickness): one circle_edge contact per inner
+    side within the tolerance, each with the gap distance - r, the frame as body 2, no corner
+    contact (the inner corners are reflex)."""
     r, tol = 0.1, 0.05
     frame_pose = np.array([X, 1.0, th])
     p = world(frame_pose, (x, y))
@@ -358,3 +361,20 @@ def test_compound_written_part_by_part_in_a_scene_file():
     )  # fmt: skip
     assert built.shape == hammer.shape and built.inertia == hammer.inertia
     assert built.position == hammer.position
+
+
+@pytest.mark.parametrize("angle", [0.0, 1.0, 2.5, -2.0])
+def test_disc_inside_and_outside_a_moving_ring(angle):
+    """A full-turn cup (a ring, inner radius 0.5, outer 0.6) at a rotated pose: a disc inside
+    touches its concave inner circle (circle_circle, the ring as body 2, r2 = -0.5), a disc
+    outside its convex outer circle, each at the exact gap."""
+    ring, r = shapes.bowl(0.5, 0.0, 2 * math.pi, thickness=0.1), 0.1
+    pose = np.array([1.0, -2.0, 0.7])
+    u = np.array([math.cos(angle), math.sin(angle)])
+    inside, outside = pose[:2] + (0.5 - r - 0.002) * u, pose[:2] + (0.6 + r + 0.003) * u
+    (c,) = find([ring, shapes.disc(r)], [pose, [*inside, 0.0]], [False, False], 0.01)
+    assert c.case == "circle_circle" and (c.body1, c.body2) == (1, 0)
+    assert c.geometry["r2"] == -0.5 and c.gap == pytest.approx(0.002, abs=1e-14)
+    (c,) = find([ring, shapes.disc(r)], [pose, [*outside, 0.0]], [False, False], 0.01)
+    assert c.case == "circle_circle" and c.gap == pytest.approx(0.003, abs=1e-14)
+    assert {c.geometry["r1"], c.geometry["r2"]} == {0.6, r}

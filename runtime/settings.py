@@ -64,6 +64,13 @@ THICKNESS_RAYS = 16  # rays from a concave arc (a cup) into its material: the th
 # cup's depth limit (its hull's width would be the cup's depth); exact for a cup of uniform
 # thickness, whose every ray has the same length
 
+OVERLAP_DIRECTIONS = 720  # directions over a turn where runtime.model.regions.overlap_depth
+# (the depth of two convex parts' overlap, a centre of mass's distance outside a hull) picks the
+# best before its bounded 1-D search; the exact candidates (edge normals, lines between
+# corners and centres) are added to them
+CONVEX_EPS = 1e-9  # relative (to the part's size; rad for turns): a compound's part is convex
+# if its edges meet within this and no join turns back by more (rounding of end points)
+
 # -- contact forces (the LCP) ------------------------------------------------------------------
 # The solver works on the scaled problem S = D A D, D = diag(A)^-1/2 (unit diagonal: A in 1/kg,
 # b and a in m/s^2 and f in N all become numbers of one size), so these are pure numbers.

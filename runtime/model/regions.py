@@ -24,6 +24,7 @@ from scipy.optimize import minimize_scalar
 
 from runtime.model.ellipse_distance import ellipse_distance
 from runtime.model.shapes import TAU, Arc, Ellipse, Point, Segment, Shape, _turn
+from runtime.settings import CONVEX_EPS, OVERLAP_DIRECTIONS
 
 __all__ = [
     "edge_distance",
@@ -33,8 +34,6 @@ __all__ = [
     "support",
     "winding",
 ]
-
-RING = 720  # directions sampled for overlap_depth before its 1-D search
 
 
 def edge_support(edge: Any, u: np.ndarray) -> np.ndarray:
@@ -84,7 +83,7 @@ def overlap_depth(a: Shape, b: Shape | Point) -> float:
     and ``b`` (a shape or a point), how deep they overlap (> 0) or minus how far apart they
     are (< 0); 0 when they touch.  For a point, minus its distance from the convex hull of
     ``a`` when outside it."""
-    angles = list(np.linspace(0.0, TAU, RING, endpoint=False))
+    angles = list(np.linspace(0.0, TAU, OVERLAP_DIRECTIONS, endpoint=False))
     for nx, ny in _normals(a) + _normals(b):
         angles += [math.atan2(ny, nx), math.atan2(-ny, -nx)]
     for p in _anchors(a):
@@ -102,7 +101,7 @@ def overlap_depth(a: Shape, b: Shape | Point) -> float:
     phi = np.asarray(angles)
     values = f(phi)
     best = int(np.argmin(values))
-    step = TAU / RING
+    step = TAU / OVERLAP_DIRECTIONS
     found = minimize_scalar(
         lambda x: float(f(np.array([x]))[0]),
         bounds=(phi[best] - step, phi[best] + step),
@@ -126,13 +125,13 @@ def is_convex(shape: Shape) -> bool:
     turning = sum(e.span for e in edges if isinstance(e, Arc))
     for k, e_out in enumerate(edges):
         e_in = edges[k - 1]
-        if math.dist(e_in.last, e_out.first) > 1e-9 * scale:
+        if math.dist(e_in.last, e_out.first) > CONVEX_EPS * scale:
             return False
         turn = _turn(e_in.normal_last(), e_out.normal_first())
-        if turn < -1e-9:
+        if turn < -CONVEX_EPS:
             return False
         turning += turn
-    return abs(turning - TAU) <= 1e-9 * TAU
+    return abs(turning - TAU) <= CONVEX_EPS * TAU
 
 
 def _local(points: np.ndarray, centre: Point, angle: float) -> np.ndarray:

@@ -1,8 +1,9 @@
 """`regenerate-equations`: derive every case, write generated/ and docs/derivations.tex (+ PDF).
 
-A subset (`--cases`) writes those cases' kernels and the case lists only: the document covers
-every case, so only a full run writes (or checks) it. This module imports nothing beyond the
-standard library until the derive extra (SymPy, Jinja2, mpmath, ruff) is known to be installed.
+The generated modules: the contact cases (the normal row), <case>_friction (the tangential row of
+a case) and the joints. A subset (`--cases`) writes those modules and the module lists only: the
+document covers every module, so only a full run writes (or checks) it. This module imports nothing
+beyond the standard library until the derive extra (SymPy, Jinja2, mpmath, ruff) is installed.
 """
 
 from __future__ import annotations
@@ -15,6 +16,9 @@ from pathlib import Path
 GENERATED_MARK = "DO NOT EDIT"
 ROOT = Path(__file__).resolve().parent.parent
 CASE_NAMES = ("vertex_edge", "vertex_circle", "circle_edge", "circle_circle")
+FRICTION_NAMES = tuple(f"{case}_friction" for case in CASE_NAMES)
+JOINT_NAMES = ("pin_joint", "distance_joint")
+MODULE_NAMES = CASE_NAMES + FRICTION_NAMES + JOINT_NAMES
 EXTRA = ("sympy", "jinja2", "mpmath", "ruff")
 
 
@@ -31,23 +35,23 @@ def _require_derive_extra() -> None:
 
 def _parse_cases(text: str | None) -> list[str]:
     if not text:
-        return list(CASE_NAMES)
+        return list(MODULE_NAMES)
     names = [n.strip() for n in text.split(",") if n.strip()]
     if not names:
         raise SystemExit(
-            f"regenerate-equations: --cases names no case; valid cases: {', '.join(CASE_NAMES)}"
+            f"regenerate-equations: --cases names no case; valid cases: {', '.join(MODULE_NAMES)}"
         )
-    unknown = [n for n in names if n not in CASE_NAMES]
+    unknown = [n for n in names if n not in MODULE_NAMES]
     if unknown:
         raise SystemExit(
             f"regenerate-equations: unknown case(s) {', '.join(unknown)}; "
-            f"valid cases: {', '.join(CASE_NAMES)}"
+            f"valid cases: {', '.join(MODULE_NAMES)}"
         )
     return names
 
 
 def _whole(names: list[str]) -> bool:
-    return set(names) == set(CASE_NAMES)
+    return set(names) == set(MODULE_NAMES)
 
 
 def _planned_files(args, names: list[str]) -> dict[Path, str]:
@@ -56,7 +60,7 @@ def _planned_files(args, names: list[str]) -> dict[Path, str]:
     results = generate(names)
     code_dir, docs_dir = Path(args.code_dir), Path(args.docs_dir)
     files = {code_dir / f"{name}.py": r.source for name, r in results.items()}
-    present = {p.stem for p in code_dir.glob("*.py") if p.stem in CASE_NAMES}
+    present = {p.stem for p in code_dir.glob("*.py") if p.stem in MODULE_NAMES}
     cases_listed = sorted(set(names) | (set() if _whole(names) else present))
     files.update({code_dir / "compiled" / f"{n}.py": r.compiled_source for n, r in results.items()})
     files[code_dir / "__init__.py"] = render_init(cases_listed)
@@ -103,8 +107,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true", help="exit 1 if any output is stale")
     parser.add_argument(
         "--cases",
-        help="comma-separated cases (default: all; a subset leaves the document as it is): "
-        + ", ".join(CASE_NAMES),
+        help="comma-separated modules (default: all; a subset leaves the document as it is): "
+        + ", ".join(MODULE_NAMES),
     )
     parser.add_argument("--code-dir", default=str(ROOT / "generated"), help="kernel output folder")
     parser.add_argument("--docs-dir", default=str(ROOT / "docs"), help="document output folder")

@@ -61,7 +61,61 @@ class UnitSign(sp.Function):
         return rf"\operatorname{{sign}}({printer._print(self.args[0])})"
 
 
-def _vector_names(stem: str) -> list[tuple[sp.Symbol, sp.Symbol, sp.Symbol]]:
+Intermediates = tuple[tuple[sp.Symbol, sp.Expr], ...]
+
+
+def total_derivative(intermediates: Intermediates, expr: sp.Expr, symbol: sp.Symbol) -> sp.Expr:
+    """d expr / d symbol, following the chain rule through the intermediates (each depends only
+    on earlier ones)."""
+    inner: dict[sp.Symbol, sp.Expr] = {}
+    for s, value in intermediates:
+        inner[s] = sp.diff(value, symbol) + sum(
+            (sp.diff(value, u) * du for u, du in inner.items()), sp.Integer(0)
+        )
+    total = sp.diff(expr, symbol) + sum(
+        (sp.diff(expr, s) * ds for s, ds in inner.items()), sp.Integer(0)
+    )
+    return sp.factor_terms(sp.simplify(total))
+
+
+def fold_state(
+    intermediates: Intermediates, values: dict[sp.Symbol, sp.Expr]
+) -> tuple[Intermediates, dict[sp.Symbol, sp.Expr]]:
+    """The intermediates with some state symbols fixed, and the substitutions for the rest.
+
+    Intermediates that become constants (n' = 0 for a fixed body) are folded into the
+    substitutions, so the specialised kernels do not compute terms that are known to vanish.
+    """
+    folded = dict(values)
+    inter = []
+    for s, e in intermediates:
+        value = e.subs(folded)
+        if value.is_number:
+            folded[s] = value
+        else:
+            inter.append((s, value))
+    return tuple(inter), folded
+
+
+def needed(intermediates: Intermediates, outputs) -> Intermediates:
+    """The intermediates the outputs use, directly or through each other, in order."""
+    used: set[sp.Symbol] = set().union(*(o.free_symbols for o in outputs))
+    for s, value in reversed(intermediates):
+        if s in used:
+            used |= value.free_symbols
+    return tuple((s, v) for s, v in intermediates if s in used)
+
+
+def inline(intermediates: Intermediates, expr: sp.Expr) -> sp.Expr:
+    """`expr` with every intermediate replaced by its definition (proofs, lambdify)."""
+    for s, value in reversed(intermediates):
+        expr = expr.subs(s, value)
+    return expr.replace(Hypot, lambda a, b: sp.sqrt(a**2 + b**2)).replace(
+        UnitSign, lambda r: sp.sign(r)
+    )
+
+
+def vector_names(stem: str) -> list[tuple[sp.Symbol, sp.Symbol, sp.Symbol]]:
     """Symbols for a world vector and its first two time derivatives, per component."""
     return [
         (real(f"{stem}_{c}"), real(f"{stem}_{c}_t"), real(f"{stem}_{c}_tt")) for c in ("x", "y")
@@ -80,15 +134,7 @@ class Derivatives:
 
     def total_derivative(self, expr: sp.Expr, symbol: sp.Symbol) -> sp.Expr:
         """d expr / d symbol, following the chain rule through the intermediates."""
-        inner: dict[sp.Symbol, sp.Expr] = {}
-        for s, value in self.intermediates:  # each depends only on earlier ones
-            inner[s] = sp.diff(value, symbol) + sum(
-                (sp.diff(value, u) * du for u, du in inner.items()), sp.Integer(0)
-            )
-        total = sp.diff(expr, symbol) + sum(
-            (sp.diff(expr, s) * ds for s, ds in inner.items()), sp.Integer(0)
-        )
-        return sp.factor_terms(sp.simplify(total))
+        return total_derivative(self.intermediates, expr, symbol)
 
     @cached_property
     def jacobian(self) -> tuple[sp.Expr, ...]:
@@ -96,22 +142,11 @@ class Derivatives:
         return tuple(self.total_derivative(self.gap_acceleration, a) for a in ACCELERATION)
 
     def with_state(self, values: dict[sp.Symbol, sp.Expr]) -> Derivatives:
-        """The same derivatives with some state symbols fixed (e.g. zero accelerations).
-
-        Intermediates that become constants (n' = 0 for a fixed body) are folded into the rest,
-        so the specialised kernels do not compute terms that are known to vanish.
-        """
-        folded = dict(values)
-        inter = []
-        for s, e in self.intermediates:
-            value = e.subs(folded)
-            if value.is_number:
-                folded[s] = value
-            else:
-                inter.append((s, value))
+        """The same derivatives with some state symbols fixed (e.g. zero accelerations)."""
+        inter, folded = fold_state(self.intermediates, values)
         return Derivatives(
             self.case,
-            tuple(inter),
+            inter,
             self.gap.subs(folded),
             self.gap_velocity.subs(folded),
             self.gap_acceleration.subs(folded),
@@ -129,28 +164,26 @@ class Derivatives:
 
     def in_state_symbols(self, expr: sp.Expr) -> sp.Expr:
         """`expr` with every intermediate replaced by its definition (proofs, lambdify)."""
-        for s, value in reversed(self.intermediates):
-            expr = expr.subs(s, value)
-        return expr.replace(Hypot, lambda a, b: sp.sqrt(a**2 + b**2)).replace(
-            UnitSign, lambda r: sp.sign(r)
-        )
+        return inline(self.intermediates, expr)
 
 
-def _vector_intermediates(stem: str, world: sp.Matrix) -> list[tuple[sp.Symbol, sp.Expr]]:
+def vector_intermediates(
+    stem: str, world: sp.Matrix, orders: int = 3
+) -> list[tuple[sp.Symbol, sp.Expr]]:
     """A world vector and its time derivatives, in state symbols, ordered v_x, v_y, v_x_t, ..."""
-    names = _vector_names(stem)
+    names = vector_names(stem)
     rates = [w**2 for w in _SPINS] + list(_SPINS) + list(_SPIN_RATES)
     return [
         (names[k][order], sp.collect(to_state(sp.diff(world[k], t, order)), rates))
-        for order in range(3)
+        for order in range(orders)
         for k in range(2)
     ]
 
 
-def _abstract_to_names(stem: str) -> tuple[list[sp.Expr], dict[sp.Expr, sp.Symbol]]:
+def abstract_vector(stem: str) -> tuple[list[sp.Expr], dict[sp.Expr, sp.Symbol]]:
     """Abstract functions for a vector, and the map from their derivatives to intermediate names."""
     funcs, names = [], {}
-    for c, (s0, s1, s2) in zip(("x", "y"), _vector_names(stem), strict=True):
+    for c, (s0, s1, s2) in zip(("x", "y"), vector_names(stem), strict=True):
         f = sp.Function(f"{stem.upper()}{c}", real=True)(t)
         funcs.append(f)
         names.update({sp.Derivative(f, (t, 2)): s2, sp.Derivative(f, t): s1})
@@ -158,12 +191,12 @@ def _abstract_to_names(stem: str) -> tuple[list[sp.Expr], dict[sp.Expr, sp.Symbo
     return funcs, names
 
 
-def _rename(expr: sp.Expr, names: dict[sp.Expr, sp.Symbol]) -> sp.Expr:
+def rename(expr: sp.Expr, names: dict[sp.Expr, sp.Symbol]) -> sp.Expr:
     derivs = {k: v for k, v in names.items() if isinstance(k, sp.Derivative)}
     return expr.subs(derivs).subs({k: v for k, v in names.items() if k not in derivs})
 
 
-def _translation() -> list[tuple[sp.Symbol, sp.Expr]]:
+def translation() -> list[tuple[sp.Symbol, sp.Expr]]:
     x1, y1, _ = BODY1.pose_symbols()
     x2, y2, _ = BODY2.pose_symbols()
     return [(DX, x1 - x2), (DY, y1 - y2)]
@@ -171,13 +204,13 @@ def _translation() -> list[tuple[sp.Symbol, sp.Expr]]:
 
 def _line_case(case: CaseDefinition) -> Derivatives:
     """d = n(t).v(t) - offset, n rigidly attached to body 2."""
-    (nx, ny), n_names = _abstract_to_names("n")
-    (vx, vy), v_names = _abstract_to_names("v")
+    (nx, ny), n_names = abstract_vector("n")
+    (vx, vy), v_names = abstract_vector("v")
     d = nx * vx + ny * vy - case.offset
     names = {**n_names, **v_names}
-    d0, d1, d2 = (_rename(sp.diff(d, t, k), names) for k in range(3))
-    inter = _translation() + _vector_intermediates("n", case.normal)
-    inter += _vector_intermediates("v", case.v)
+    d0, d1, d2 = (rename(sp.diff(d, t, k), names) for k in range(3))
+    inter = translation() + vector_intermediates("n", case.normal)
+    inter += vector_intermediates("v", case.v)
     return Derivatives(case, tuple(inter), d0, d1, d2)
 
 
@@ -189,9 +222,9 @@ def norm_second_derivative() -> tuple[sp.Expr, sp.Expr]:
     relative speed v_tan = (v x v')/|v| (Lagrange's identity): no cancellation, and no |v|^3 to
     underflow. `_circle_case` has SymPy prove the two equal every time it derives.
     """
-    (vx, vy), names = _abstract_to_names("v")
-    raw = _rename(sp.diff(sp.sqrt(vx**2 + vy**2), t, 2), names)
-    (sx, sx_t, sx_tt), (sy, sy_t, sy_tt) = _vector_names("v")
+    (vx, vy), names = abstract_vector("v")
+    raw = rename(sp.diff(sp.sqrt(vx**2 + vy**2), t, 2), names)
+    (sx, sx_t, sx_tt), (sy, sy_t, sy_tt) = vector_names("v")
     stable = (sx * sx_tt + sy * sy_tt) / V_LEN + V_TAN**2 / V_LEN
     length = sp.sqrt(sx**2 + sy**2)
     return raw, stable.subs(V_TAN, (sx * sy_t - sy * sx_t) / V_LEN).subs(V_LEN, length)
@@ -202,15 +235,15 @@ def _circle_case(case: CaseDefinition) -> Derivatives:
     raw, stable = norm_second_derivative()
     if sp.simplify(raw - stable) != 0:
         raise AssertionError("the stable form of d'' for |v| differs from SymPy's derivative")
-    (vx, vy), names = _abstract_to_names("v")
-    (sx, sx_t, sx_tt), (sy, sy_t, sy_tt) = _vector_names("v")
+    (vx, vy), names = abstract_vector("v")
+    (sx, sx_t, sx_tt), (sy, sy_t, sy_tt) = vector_names("v")
     length = sp.sqrt(sx**2 + sy**2)
-    d0, d1 = (_rename(SIGMA2 * sp.diff(sp.sqrt(vx**2 + vy**2), t, k), names) for k in (0, 1))
+    d0, d1 = (rename(SIGMA2 * sp.diff(sp.sqrt(vx**2 + vy**2), t, k), names) for k in (0, 1))
     d0, d1 = (e.subs(length, V_LEN) for e in (d0, d1))
     d2 = SIGMA2 * ((sx * sx_tt + sy * sy_tt) / V_LEN + V_TAN**2 / V_LEN)
     radius2 = case.geometry[-1]
-    inter = _translation() + [(SIGMA2, UnitSign(radius2))]
-    inter += _vector_intermediates("v", case.v)
+    inter = translation() + [(SIGMA2, UnitSign(radius2))]
+    inter += vector_intermediates("v", case.v)
     inter.insert(5, (V_LEN, Hypot(sx, sy)))  # right after v_x, v_y
     inter.insert(8, (V_TAN, (sx * sy_t - sy * sx_t) / V_LEN))  # right after v_x_t, v_y_t
     return Derivatives(case, tuple(inter), d0 - case.offset, d1, d2)

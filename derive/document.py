@@ -13,7 +13,9 @@ import sympy as sp
 
 from derive.derivation import ACCELERATION
 from derive.emit import environment
-from derive.generate import CaseResult
+from derive.friction import CONTACT_POINTS
+from derive.generate import ModuleResult
+from derive.joints import ALL_JOINTS
 from derive.osculating import check as osculating_check
 
 _NAMES = {
@@ -29,11 +31,13 @@ _NAMES = {
     "al1": r"\alpha_1",
     "al2": r"\alpha_2",
 }
-for _stem in ("n", "v"):
+_NAMES.update({"s_len": r"|s|", "s_tan": r"s_{\perp}", "length": r"\ell"})
+for _stem, _tex in (("n", "n_"), ("v", "v_"), ("s", "s_"), ("l1", "L_1"), ("l2", "L_2")):
     for _c in ("x", "y"):
-        _NAMES[f"{_stem}_{_c}"] = f"{_stem}_{_c}"
-        _NAMES[f"{_stem}_{_c}_t"] = rf"\dot {_stem}_{_c}"
-        _NAMES[f"{_stem}_{_c}_tt"] = rf"\ddot {_stem}_{_c}"
+        _sub = f"{_tex[0]}_{{{_tex[2:]}{_c}}}"  # n_{x}, L_{1x}
+        _NAMES[f"{_stem}_{_c}"] = _sub
+        _NAMES[f"{_stem}_{_c}_t"] = rf"\dot {_sub}"
+        _NAMES[f"{_stem}_{_c}_tt"] = rf"\ddot {_sub}"
 
 
 for _i in ("1", "2"):
@@ -76,8 +80,8 @@ def latex(expr: sp.Expr, terms_per_line: int = 4) -> str:
     return r" \\ &\quad ".join(lines)
 
 
-def _case_context(result: CaseResult) -> dict:
-    d = result.derivatives
+def _case_context(result: ModuleResult) -> dict:
+    d = result.derived
     case = d.case
     return {
         "case": case,
@@ -92,12 +96,63 @@ def _case_context(result: CaseResult) -> dict:
     }
 
 
-def render(results: dict[str, CaseResult]) -> str:
+def _rows_context(result: ModuleResult, outputs: dict[str, str]) -> dict:
+    """A friction or joint module: its intermediates, outputs (per row) and Jacobian rows."""
+    f = result.derived
+    rows = f.rows
+    return {
+        "name": result.name,
+        "title": result.title,
+        "intermediates": [(latex(s), latex(v)) for s, v in f.intermediates],
+        "outputs": [
+            (tex.format(row=_row_label(k, rows)), latex(e, 3))
+            for name, tex in outputs.items()
+            for k, e in enumerate(f.values[name])
+        ],
+        "jacobian": [
+            (_row_label(k, rows), latex(a), latex(j, 2))
+            for k, row in enumerate(f.jacobian)
+            for a, j in zip(ACCELERATION, row, strict=True)
+        ],
+        "proofs": result.proofs,
+    }
+
+
+def _row_label(k: int, rows: int) -> str:
+    return ("_x", "_y")[k] if rows == 2 else ""
+
+
+def render(results: dict[str, ModuleResult]) -> str:
     osc = [osculating_check(), osculating_check(a=3.0, b=0.5, phi=2.0)]
     env = environment()
     env.filters["tex_text"] = tex_text
     template = env.get_template("derivations.tex.j2")
-    return template.render(cases=[_case_context(r) for r in results.values()], osculating=osc)
+    by_kind = {
+        k: [r for r in results.values() if r.kind == k] for k in ("case", "friction", "joint")
+    }
+    friction = [
+        dict(
+            _rows_context(r, {"tangent_velocity": "v_t", "tangent_acceleration": r"\dot v_t"}),
+            points=tex_text(CONTACT_POINTS[r.name.removesuffix("_friction")]),
+        )
+        for r in by_kind["friction"]
+    ]
+    joints = [
+        dict(
+            _rows_context(
+                r,
+                {"gap": "d{row}", "gap_velocity": "d'{row}", "gap_acceleration": "d''{row}"},
+            ),
+            definition=tex_text(ALL_JOINTS[r.name]().definition),
+        )
+        for r in by_kind["joint"]
+    ]
+    return template.render(
+        cases=[_case_context(r) for r in by_kind["case"]],
+        friction=friction,
+        joints=joints,
+        osculating=osc,
+    )
 
 
 def build_pdf(tex_path: Path) -> Path | None:

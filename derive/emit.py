@@ -101,7 +101,9 @@ def emit_function(spec: KernelSpec, geometry: tuple[sp.Symbol, ...]) -> EmittedF
     args = spec.arguments(geometry)
     lines, outputs = _function_body(spec, args)
     freed = _last_uses(lines, outputs, set(args))
-    ret = ", ".join(printer.doprint(o) for o in outputs)
+    # a constant output (a pin joint's unit directions) as a float: numba types a tuple of floats
+    # (an int among them makes it heterogeneous, not indexable in a loop)
+    ret = ", ".join(repr(float(o)) if o.is_number else printer.doprint(o) for o in outputs)
     return EmittedFunction(
         name=spec.name,
         summary=spec.summary,
@@ -127,20 +129,29 @@ BODY2_COLUMN = 3  # geometry columns: body 1's feature from 0, body 2's from 3 (
 
 
 def geometry_columns(geometry: tuple[sp.Symbol, ...]) -> dict[str, int]:
-    """Column of each geometry argument in the engine's (m, 7) geometry array."""
+    """Column of each geometry argument in the engine's (m, 7) geometry array: body 1's from 0,
+    body 2's from 3, then those of neither body (a joint's length)."""
     first = [str(g) for g in geometry if str(g).endswith("1")]
     second = [str(g) for g in geometry if str(g).endswith("2")]
+    shared = [str(g) for g in geometry if str(g) not in first + second]
     columns = {name: c for c, name in enumerate(first)}
-    columns.update({name: BODY2_COLUMN + c for c, name in enumerate(second)})
+    columns.update({name: BODY2_COLUMN + c for c, name in enumerate(second + shared)})
     return columns
 
 
-def batch_call(arguments: tuple[str, ...], columns: dict[str, int]) -> str:
-    """The argument list of a kernel call inside a batch loop over contacts k (bodies i, j)."""
+def batch_call(
+    arguments: tuple[str, ...], columns: dict[str, int], body2_pose_local: bool = False
+) -> str:
+    """The argument list of a kernel call inside a batch loop over contacts k (bodies i, j).
+
+    body2_pose_local: body 2's pose is in the loop's locals x2, y2, th2 (a joint's loop, where
+    body 2 may be the world)."""
     parts = []
     for a in arguments:
         if a in columns:
             parts.append(f"geometry[k, {columns[a]}]")
+        elif body2_pose_local and a in ("x2", "y2", "th2"):
+            parts.append(a)
         else:
             parts.append(_STATE_SOURCES[a[:-1]].format(b="i" if a.endswith("1") else "j"))
     return ", ".join(parts)

@@ -1,7 +1,12 @@
-"""Render every requested case to generated/<case>.py and the derivations to docs/derivations.tex."""
+"""Render every requested module to generated/<name>.py and generated/compiled/<name>.py.
+
+Modules: the four contact cases (the normal row), the friction module of each case
+(<case>_friction: the tangential row) and the joints (pin_joint, distance_joint).
+"""
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -9,68 +14,149 @@ from dataclasses import dataclass
 from derive.cases import ALL_CASES
 from derive.derivation import Derivatives, derive
 from derive.emit import batch_call, emit_function, environment, format_python, geometry_columns
-from derive.kernels import kernel_specs
+from derive.friction import CONTACT_POINTS, FORMULAS, tangential
+from derive.friction_proofs import friction_proofs
+from derive.joint_proofs import joint_proofs
+from derive.joints import ALL_JOINTS, derive_joint
+from derive.kernels import friction_specs, joint_specs, kernel_specs
 from derive.proofs import Proof, proofs_for
+from derive.rows import Derived
+
+FRICTION_SUFFIX = "_friction"
+MODULES = (*ALL_CASES, *(c + FRICTION_SUFFIX for c in ALL_CASES), *ALL_JOINTS)
+_BATCHED = {
+    "case": ("gap", "gap_velocity", "jacobian", "bias"),
+    "friction": ("tangent_velocity", "tangent_jacobian", "tangent_bias"),
+    "joint": ("gap", "gap_velocity", "jacobian", "bias"),
+}
+_TEMPLATES = {"case": "kernel_module", "friction": "friction_module", "joint": "joint_module"}
 
 
 @dataclass(frozen=True)
-class CaseResult:
-    derivatives: Derivatives
+class ModuleResult:
+    name: str
+    kind: str  # "case", "friction" or "joint"
+    title: str
+    derived: Derivatives | Derived
     source: str
     compiled_source: str
     proofs: list[Proof]
     seconds: float
 
 
-def generate_case(name: str) -> CaseResult:
-    start = time.perf_counter()
-    case = ALL_CASES[name]()
-    d = derive(case)
-    functions = [emit_function(spec, case.geometry) for spec in kernel_specs(d)]
-    env = environment()
-    source = env.get_template("kernel_module.py.j2").render(case=case, functions=functions)
-    columns = geometry_columns(case.geometry)
-    batched = ("gap", "gap_velocity", "jacobian", "bias")
+def kind_of(name: str) -> str:
+    if name in ALL_CASES:
+        return "case"
+    return "friction" if name.endswith(FRICTION_SUFFIX) else "joint"
+
+
+@functools.cache
+def contact_derivatives(case: str) -> Derivatives:
+    return derive(ALL_CASES[case]())
+
+
+def _render(kind: str, info, specs, geometry, **context) -> tuple[str, str]:
+    """The NumPy module and its compiled variant (with batch loops) from the kernel specs."""
+    functions = [emit_function(spec, geometry) for spec in specs]
+    columns = geometry_columns(geometry)
     calls = {
-        f.name: batch_call(f.arguments, columns)
+        f.name: batch_call(f.arguments, columns, body2_pose_local=kind == "joint")
         for f in functions
-        if f.name.removesuffix("_static2") in batched
+        if f.name.removesuffix("_static2") in _BATCHED[kind]
     }
-    compiled = env.get_template("kernel_module_compiled.py.j2").render(
-        case=case, functions=functions, columns=list(columns.items()), calls=calls
+    env = environment()
+    source = env.get_template(f"{_TEMPLATES[kind]}.py.j2").render(
+        case=info, functions=functions, **context
     )
-    proofs = proofs_for(d)
-    return CaseResult(
-        d, format_python(source), format_python(compiled), proofs, time.perf_counter() - start
+    compiled = env.get_template(f"{_TEMPLATES[kind]}_compiled.py.j2").render(
+        case=info, functions=functions, columns=list(columns.items()), calls=calls, **context
     )
+    return format_python(source), format_python(compiled)
 
 
-def render_init(cases: list[str]) -> str:
-    """generated/__init__.py: the cases present and the engine's contract with them (case ids,
-    geometry columns), so the runtime never retypes a kernel's argument list."""
-    every = {name: make() for name, make in ALL_CASES.items()}
-    contract = {
-        name: {"id": k, "columns": geometry_columns(case.geometry)}
-        for k, (name, case) in enumerate(every.items())
+def _case(name: str):
+    d = contact_derivatives(name)
+    rendered = _render("case", d.case, kernel_specs(d), d.case.geometry)
+    return d.case.title, d, rendered, proofs_for(d)
+
+
+def _friction(name: str):
+    contact = name.removesuffix(FRICTION_SUFFIX)
+    case = ALL_CASES[contact]()
+    f = tangential(case)
+    info = {"name": name, "title": case.title, "contact": contact}
+    specs = friction_specs(f, FORMULAS)
+    rendered = _render("friction", info, specs, case.geometry, points=CONTACT_POINTS[contact])
+    return case.title, f, rendered, friction_proofs(case, f)
+
+
+def _joint(name: str):
+    joint = ALL_JOINTS[name]()
+    j = derive_joint(joint)
+    rows = joint.rows
+    info = {
+        "name": name,
+        "title": joint.title,
+        "definition": joint.definition,
+        "rows": rows,
+        "rows_text": "Two rows, x and y of s = p1 - p2 in world axes (outputs end in _x, _y)."
+        if rows == 2
+        else "One row; it needs |s| > 0 (length > 0: a zero length is a pin joint).",
+        "targets": lambda out: ", ".join(f"{out}[k, {r}]" for r in range(rows)),
+    }
+    specs = joint_specs(j, joint.row_names, joint.formulas)
+    return joint.title, j, _render("joint", info, specs, joint.geometry), joint_proofs(joint, j)
+
+
+def generate_module(name: str) -> ModuleResult:
+    start = time.perf_counter()
+    kind = kind_of(name)
+    make = {"case": _case, "friction": _friction, "joint": _joint}[kind]
+    title, derived, (source, compiled), proofs = make(name)
+    seconds = time.perf_counter() - start
+    return ModuleResult(name, kind, title, derived, source, compiled, proofs, seconds)
+
+
+def render_init(modules: list[str]) -> str:
+    """generated/__init__.py: the modules present and the engine's contract with them (case and
+    joint ids, geometry columns, joint rows), so the runtime never retypes a kernel's argument
+    list."""
+    cases = {
+        name: {"id": k, "columns": geometry_columns(make().geometry)}
+        for k, (name, make) in enumerate(ALL_CASES.items())
+    }
+    joints = {
+        name: {"id": k, "rows": make().rows, "columns": geometry_columns(make().geometry)}
+        for k, (name, make) in enumerate(ALL_JOINTS.items())
     }
     text = (
         environment()
         .get_template("generated_init.py.j2")
-        .render(cases=sorted(cases), contract=contract)
+        .render(**_listed(modules), contract=cases, joint_contract=joints)
     )
     return format_python(text)
 
 
-def render_compiled_init(cases: list[str]) -> str:
-    text = environment().get_template("generated_compiled_init.py.j2").render(cases=sorted(cases))
+def _listed(modules: list[str]) -> dict[str, list[str]]:
+    return {
+        "cases": sorted(m for m in modules if kind_of(m) == "case"),
+        "friction": sorted(
+            m.removesuffix(FRICTION_SUFFIX) for m in modules if kind_of(m) == "friction"
+        ),
+        "joints": sorted(m for m in modules if kind_of(m) == "joint"),
+    }
+
+
+def render_compiled_init(modules: list[str]) -> str:
+    text = environment().get_template("generated_compiled_init.py.j2").render(**_listed(modules))
     return format_python(text)
 
 
-def generate(names: list[str], report: Callable[[str], None] = print) -> dict[str, CaseResult]:
+def generate(names: list[str], report: Callable[[str], None] = print) -> dict[str, ModuleResult]:
     results = {}
     for name in names:
-        results[name] = r = generate_case(name)
+        results[name] = r = generate_module(name)
         failed = [p.statement for p in r.proofs if not p.holds]
         status = "all proofs hold" if not failed else f"{len(failed)} PROOF(S) FAIL"
-        report(f"{name:14s} {r.seconds:6.2f} s  {len(r.source.splitlines()):4d} lines  {status}")
+        report(f"{name:23s} {r.seconds:6.2f} s  {len(r.source.splitlines()):4d} lines  {status}")
     return results

@@ -10,7 +10,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from derive.derivation import ACCELERATION, POSE, VELOCITY, Derivatives
+from derive.derivation import ACCELERATION, POSE, VELOCITY, Derivatives, needed
+from derive.rows import Derived
 
 _STATE_ORDER = (
     POSE[:3] + VELOCITY[:3] + ACCELERATION[:3] + POSE[3:] + VELOCITY[3:] + ACCELERATION[3:]
@@ -30,11 +31,7 @@ class KernelSpec:
 
     def needed_intermediates(self) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
         """The intermediates the outputs use, directly or through each other, in order."""
-        needed: set[sp.Symbol] = set().union(*(o.free_symbols for o in self.outputs))
-        for s, value in reversed(self.intermediates):
-            if s in needed:
-                needed |= value.free_symbols
-        return tuple((s, v) for s, v in self.intermediates if s in needed)
+        return needed(self.intermediates, self.outputs)
 
     def arguments(self, geometry: tuple[sp.Symbol, ...]) -> tuple[sp.Symbol, ...]:
         free: set[sp.Symbol] = set().union(*(o.free_symbols for o in self.outputs))
@@ -121,3 +118,125 @@ def kernel_specs(d: Derivatives) -> list[KernelSpec]:
             ("b",),
         ),
     ]
+
+
+# ------------------------------------------------------------------------------------------
+# rows beyond the normal: friction (one tangential row per contact) and joints (1 or 2 rows)
+# ------------------------------------------------------------------------------------------
+
+JACOBIAN_NAMES = ("j1x", "j1y", "j1th", "j2x", "j2y", "j2th")
+STATIC_NOTE = "  [body 2 fixed: v2 = w2 = a2 = al2 = 0]"
+
+
+def _row_spec(name, summary, formula, source: Derived, output: str, names) -> KernelSpec:
+    return KernelSpec(name, summary, formula, source.intermediates, source.values[output], names)
+
+
+def _jacobian_spec(name, summary, formula, source: Derived, row_names, per_body: int) -> KernelSpec:
+    """The Jacobian rows flattened row by row: 6 entries each (3 with body 2 fixed)."""
+    outputs = tuple(e for row in source.jacobian for e in row[:per_body])
+    names = tuple(f"{j}_{r}" if r else j for r in row_names for j in JACOBIAN_NAMES[:per_body])
+    return KernelSpec(name, summary, formula, source.intermediates, outputs, names)
+
+
+def friction_specs(f: Derived, formulas: dict[str, str]) -> list[KernelSpec]:
+    """The public functions of a case's friction module: v_t, d/dt v_t, J_t, b_t (+ static2)."""
+    bias_formula = f"{formulas['tangent_acceleration']}  with every acceleration zero"
+    specs = []
+    for suffix, v, note, per_body in (("", f, "", 6), ("_static2", f.static2, STATIC_NOTE, 3)):
+        specs += [
+            _row_spec(
+                "tangent_velocity" + suffix,
+                "Tangential relative velocity v_t of the contact points (exact, any state).",
+                formulas["tangent_velocity"] + note,
+                v,
+                "tangent_velocity",
+                ("vt",),
+            ),
+            _row_spec(
+                "tangent_acceleration" + suffix,
+                "Exact d/dt v_t for any state.",
+                formulas["tangent_acceleration"] + note,
+                v,
+                "tangent_acceleration",
+                ("at",),
+            ),
+            _jacobian_spec(
+                "tangent_jacobian" + suffix,
+                "Tangential Jacobian row J_t: v_t = J_t . velocities, the A-matrix row of friction.",
+                formulas["tangent_jacobian"] + note,
+                v,
+                ("",),
+                per_body,
+            ),
+            _row_spec(
+                "tangent_bias" + suffix,
+                "Velocity-dependent part of d/dt v_t: the b-vector term of friction.",
+                bias_formula + note,
+                v.bias,
+                "tangent_acceleration",
+                ("bt",),
+            ),
+        ]
+    return specs
+
+
+def joint_specs(
+    j: Derived, row_names: tuple[str, ...], formulas: dict[str, str]
+) -> list[KernelSpec]:
+    """The public functions of a joint module: d, d', d'', J, bias per row (+ static2)."""
+
+    def names(stem: str) -> tuple[str, ...]:
+        return tuple(f"{stem}_{r}" if r else stem for r in row_names)
+
+    jac_formula = (
+        "rows of (dd/dx1, dd/dy1, dd/dth1, dd/dx2, dd/dy2, dd/dth2)"
+        " = the coefficients of the accelerations in d''"
+    )
+    bias_formula = f"{formulas['gap_acceleration']}  with every acceleration zero"
+    specs = [
+        _row_spec(
+            "gap",
+            "Constraint value d (0 when the joint holds).",
+            formulas["gap"],
+            j,
+            "gap",
+            names("d"),
+        )
+    ]
+    for suffix, v, note, per_body in (("", j, "", 6), ("_static2", j.static2, STATIC_NOTE, 3)):
+        specs += [
+            _row_spec(
+                "gap_velocity" + suffix,
+                "Exact d' for any state.",
+                formulas["gap_velocity"] + note,
+                v,
+                "gap_velocity",
+                names("d1"),
+            ),
+            _row_spec(
+                "gap_acceleration" + suffix,
+                "Exact d'' for any state.",
+                formulas["gap_acceleration"] + note,
+                v,
+                "gap_acceleration",
+                names("d2"),
+            ),
+            _jacobian_spec(
+                "jacobian" + suffix,
+                "Jacobian rows of the joint: the A-matrix lever terms.",
+                jac_formula + note,
+                v,
+                row_names,
+                per_body,
+            ),
+            _row_spec(
+                "bias" + suffix,
+                "Velocity-dependent part of d'': the b-vector term.",
+                bias_formula + note,
+                v.bias,
+                "gap_acceleration",
+                names("b"),
+            ),
+        ]
+    return specs

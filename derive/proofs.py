@@ -3,7 +3,7 @@
 Each proof returns a `Proof` (statement, holds). The reference (derive/reference.py) is the note's
 gap along an explicit motion of both bodies; it shares no code with the derivation. Every emitted
 expression is covered: d, d', d'' (velocity terms included), the Jacobian, the bias and the
-body-2-fixed variants. `_is_zero` decides each identity exactly; when a proof fails,
+body-2-fixed variants. `is_zero` decides each identity exactly; when a proof fails,
 `regenerate-equations` names it and writes nothing.
 """
 
@@ -34,7 +34,7 @@ def _half_powers(expr: sp.Expr) -> list[sp.Pow]:
     return [p for p in expr.atoms(sp.Pow) if p.exp.is_Rational and p.exp.q == 2]
 
 
-def _is_zero(expr: sp.Expr) -> bool:
+def is_zero(expr: sp.Expr) -> bool:
     """Exact zero test over the state symbols.
 
     Angles become polynomial variables (c, s) reduced by c^2 + s^2 = 1; each square root sqrt(B)
@@ -44,13 +44,14 @@ def _is_zero(expr: sp.Expr) -> bool:
     the remainder is a normal form: zero exactly when the numerator is in the ideal they span.
     """
     x1, y1, th1, x2, y2, th2 = ref.POSE
-    expr = sp.sympify(expr).subs({DX: x1 - x2, DY: y1 - y2})
-    expr = expr.subs(sp.sign(sym("r2")), SIGMA2)
+    # xreplace (exact nodes, no pattern matching) is several times faster than subs here; a
+    # node it missed would stay an independent variable, which can only make a proof fail
+    expr = sp.sympify(expr).xreplace({DX: x1 - x2, DY: y1 - y2, sp.sign(sym("r2")): SIGMA2})
     trig = []
     for angle in (th1, th2, BETA):
         c, s = sp.Dummy(), sp.Dummy()
         trig.append((c, s))
-        expr = expr.subs({sp.cos(angle): c, sp.sin(angle): s})
+        expr = expr.xreplace({sp.cos(angle): c, sp.sin(angle): s})
 
     def canonical(e: sp.Expr) -> sp.Expr:
         e = sp.expand(e).replace(
@@ -64,9 +65,9 @@ def _is_zero(expr: sp.Expr) -> bool:
     for power in sorted(_half_powers(expr), key=sp.default_sort_key):
         content, base = canonical(power.base).as_content_primitive()  # sqrt(4 B) = 2 sqrt(B)
         root = roots.setdefault(base, sp.Dummy(positive=True))
-        expr = expr.subs(power, content**power.exp * root ** int(2 * power.exp))
+        expr = expr.xreplace({power: content**power.exp * root ** int(2 * power.exp)})
     if _half_powers(expr):
-        raise ValueError(f"_is_zero: nested square roots are not supported: {_half_powers(expr)}")
+        raise ValueError(f"is_zero: nested square roots are not supported: {_half_powers(expr)}")
     numerator = sp.expand(sp.numer(sp.together(expr)))
     for base, root in roots.items():
         numerator = _reduce_square(numerator, root, base)
@@ -82,8 +83,8 @@ def _reduce_square(polynomial: sp.Expr, x: sp.Symbol, square: sp.Expr) -> sp.Exp
     )
 
 
-def _all_zero(pairs) -> bool:
-    return all(_is_zero(a - b) for a, b in pairs)
+def all_zero(pairs) -> bool:
+    return all(is_zero(a - b) for a, b in pairs)
 
 
 def _ours(d: Derivatives, expr: sp.Expr) -> sp.Expr:
@@ -110,12 +111,12 @@ def _variants(d: Derivatives) -> dict[str, Derivatives]:
     return {"full": d, "bias": d.bias, "static2": d.static2, "static2 bias": d.static2.bias}
 
 
-def _inline_scalars(d: Derivatives, expr: sp.Expr, vectors) -> sp.Expr:
+def inline_scalars(d, expr: sp.Expr, vectors) -> sp.Expr:
     """`expr` with the intermediates that are not named world vectors (|v|, v_tan, sigma, dx,
     dy) replaced by their definitions."""
     for s, value in reversed(d.intermediates):
         if s not in vectors:
-            expr = expr.subs(s, value)
+            expr = expr.xreplace({s: value})
     return expr.replace(Hypot, lambda a, b: sp.sqrt(a**2 + b**2)).replace(
         UnitSign, lambda r: sp.sign(r)
     )
@@ -134,12 +135,12 @@ def exact_derivatives(d: Derivatives) -> list[Proof]:
     for variant, dv in _variants(d).items():
         still = RESTRICTIONS[variant]
         wanted = {s: value.subs(still) for s, value in references.items()}
-        ok = _all_zero((value, wanted[s]) for s, value in dv.intermediates if s in wanted)
+        ok = all_zero((value, wanted[s]) for s, value in dv.intermediates if s in wanted)
         defined = {s for s, _ in dv.intermediates}
         folded = {s: value for s, value in wanted.items() if s not in defined}
         ours = (dv.gap, dv.gap_velocity, dv.gap_acceleration)
-        ok = ok and _all_zero(
-            (_inline_scalars(dv, a, wanted), b.subs(folded))
+        ok = ok and all_zero(
+            (inline_scalars(dv, a, wanted), b.subs(folded))
             for a, b in zip(ours, formula, strict=True)
         )
         held[variant] = ok
@@ -175,7 +176,7 @@ def jacobian_row(d: Derivatives) -> Proof:
         f"{d.case.name}: the Jacobian row J (and the *_static2 row) equals dd/dq, hence the"
         " acceleration coefficients of the reference d'' (there dd/da = (t^2/2) dd/dq), so"
         " d'' = J.a + bias exactly",
-        _all_zero(pairs),
+        all_zero(pairs),
     )
 
 
@@ -198,7 +199,7 @@ def levers(d: Derivatives) -> Proof:
         " the contact point, so A = J M^-1 J^T is symmetric; the kernels use"
         f" {case.lever1}1 and {case.lever2}2 (U, to a centre of curvature, has the same cross"
         " product with n: U - R is along n)",
-        _all_zero((_ours(d, j), e) for j, e in zip(d.jacobian, expected, strict=True)),
+        all_zero((_ours(d, j), e) for j, e in zip(d.jacobian, expected, strict=True)),
     )
 
 
@@ -238,11 +239,11 @@ def vertex_edge_note(d: Derivatives) -> list[Proof]:
         Proof(
             "vertex_edge: at a contact (d = 0, p1 = p2), d'' = 2 n'.(p1' - p2') + n.(p1'' - p2'')"
             " (note eq. 4), with p2 the material point of body 2 at the vertex",
-            _is_zero(full.subs(place) - note.subs(place)),
+            is_zero(full.subs(place) - note.subs(place)),
         ),
         Proof(
             "straight edge: n' = w2 (k x n) is perpendicular to n for any motion (note appendix)",
-            _is_zero(dot(at_instant(n_beta), at_instant(n_beta, 1))),
+            is_zero(dot(at_instant(n_beta), at_instant(n_beta, 1))),
         ),
     ]
 
@@ -264,12 +265,12 @@ def circle_edge_note(d: Derivatives) -> list[Proof]:
         Proof(
             "circle_edge: at a contact, with p2 the material point of body 2 under the centre c1,"
             " d'' = 2 n'.(c1' - p2') + n.(c1'' - p2'') - w2^2 r1 (note eq. 11)",
-            _is_zero(full - note_eq11(q)),
+            is_zero(full - note_eq11(q)),
         ),
         Proof(
             "circle_edge, hidden condition: if p2 is another point of the edge, a distance u along"
             " it, eq. 11 is off by al2*u (the note's n'' = -w2^2 n drops al2 (k x n))",
-            _is_zero(full - note_eq11(q + U_OFF * tangent) + al2 * U_OFF),
+            is_zero(full - note_eq11(q + U_OFF * tangent) + al2 * U_OFF),
         ),
     ]
 
@@ -283,7 +284,7 @@ def circle_note(d: Derivatives) -> Proof:
     n1 = at_instant(n, 1)
     note = dot(n1, at_instant(v, 1)) + dot(at_instant(n), at_instant(v, 2))
     vectors = ref.vector_derivatives(name)
-    ours = _inline_scalars(d, d.gap_acceleration, vectors)
+    ours = inline_scalars(d, d.gap_acceleration, vectors)
     q = "p1" if name.startswith("vertex") else "c1"
     eq = "8" if name.startswith("vertex") else "12"
     return Proof(
@@ -291,7 +292,7 @@ def circle_note(d: Derivatives) -> Proof:
         " that does not cancel when v' is along v) equals"
         f" n'.({q}' - c2') + n.({q}'' - c2'') (note eq. {eq}), n = sigma v/|v|, for every state"
         " (not only at a contact), and n'.n = 0 (note appendix)",
-        _is_zero(ours - note) and _is_zero(dot(at_instant(n), n1)),
+        is_zero(ours - note) and is_zero(dot(at_instant(n), n1)),
     )
 
 

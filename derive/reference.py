@@ -79,22 +79,54 @@ class Geometry:
     definition: str
 
 
+_FEATURE2 = {"edge": ("ex2", "ey2"), "circle": ("cx2", "cy2")}
+
+
 @cache
-def geometry(case: str) -> Geometry:
+def geometry(case: str, levers: bool = False) -> Geometry:
     """The note's definitions: straight edge n = R(th2) n2, d = n.v - r1 (section 2 and 4);
-    circular edge n = sigma v/|v|, d = sigma |v| - r2 - r1 (eq. 5-6, section 5), sigma = sign(r2)."""
+    circular edge n = sigma v/|v|, d = sigma |v| - r2 - r1 (eq. 5-6, section 5), sigma = sign(r2).
+
+    levers: the features are X_i(t) + L_i(t) with the levers L_i an arbitrary path of named
+    vectors (l1_x, l1_x_t, ...) in place of R(th_i(t)) f_i (`lever_values` gives those), so the
+    expression holds no trigonometry of the body angles."""
     first, second = case.split("_")
-    p1 = B1.point(*map(sym, _FEATURE1[first]))
+    f1, f2 = features(case, levers)
     r1 = sym("r1") if first == "circle" else sp.Integer(0)
+    v = f1 - f2
     if second == "edge":
-        v = p1 - B2.point(sym("ex2"), sym("ey2"))
         n = B2.turn(sym("nx2"), sym("ny2"))
         return Geometry(v, n, r1, "d = n.v - r1, n = R(th2) n2" if r1 else "d = n.v, n = R(th2) n2")
-    v = p1 - B2.point(sym("cx2"), sym("cy2"))
     sigma = sp.sign(sym("r2"))
     n = sigma * v / sp.sqrt(dot(v, v))
     definition = "d = sigma |v| - r2" + (" - r1" if r1 else "") + ", sigma = sign(r2)"
     return Geometry(v, n, r1 + sym("r2"), definition)
+
+
+def features(case: str, levers: bool = False) -> tuple[sp.Matrix, sp.Matrix]:
+    """Body 1's feature point (vertex or circle centre) and body 2's (edge point or centre) along
+    the motion: X_i + R(th_i) f_i, or X_i + L_i with L_i an arbitrary path (levers)."""
+    if levers:
+        return B1.centre + vector_path("l1"), B2.centre + vector_path("l2")
+    first, second = case.split("_")
+    return B1.point(*map(sym, _FEATURE1[first])), B2.point(*map(sym, _FEATURE2[second]))
+
+
+def lever_values(name: str, orders: int = 2) -> dict[sp.Symbol, sp.Expr]:
+    """The levers L_i = R(th_i) f_i to the features (a contact case) or anchors (a joint) and
+    their rates at the instant, keyed by the names of the lever paths (l1_x, l1_x_t, ...)."""
+    first, second = name.split("_")
+    if second == "joint":
+        points = (("px1", "py1"), ("px2", "py2"))
+    else:
+        points = (_FEATURE1[first], _FEATURE2[second])
+    out = {}
+    for body, point in zip((B1, B2), points, strict=True):
+        lever = body.turn(*map(sym, point))
+        for order in range(orders):
+            value = at_instant(lever, order)
+            out.update({_named(f"l{body.i}", c, order): value[k] for k, c in enumerate("xy")})
+    return out
 
 
 def at_instant(expr: sp.Expr, order: int = 0) -> sp.Expr:
@@ -144,3 +176,95 @@ def gap_of_vectors(case: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     else:
         d = sp.sign(sym("r2")) * sp.sqrt(dot(v, v)) - offset
     return tuple(at_instant(d, k) for k in range(3))
+
+
+# ------------------------------------------------------------------------------------------
+# friction: the contact points' tangential relative velocity
+# ------------------------------------------------------------------------------------------
+
+H = sp.Symbol("h", real=True)  # a short time after tau, to follow a material point
+
+
+def material_velocity(body: Motion, p: sp.Matrix) -> sp.Matrix:
+    """Velocity of the material point of `body` at the world point p at time tau: that point,
+    carried rigidly with the body from tau to tau + h, differentiated in h at h = 0."""
+    later = Motion(body.i)
+    turn = later.angle.subs(TAU, TAU + H) - body.angle
+    c, s = sp.cos(turn), sp.sin(turn)
+    carried = later.centre.subs(TAU, TAU + H) + sp.Matrix([[c, -s], [s, c]]) * (p - body.centre)
+    return sp.diff(carried, H).subs(H, 0)
+
+
+OMEGA_N = sym("omega_n")  # the rate of turn of an arbitrary unit normal (form "unit normal")
+FORMS = ("bodies", "levers", "unit normal")
+
+
+def unit_normal_path() -> sp.Matrix:
+    """An arbitrary unit vector along the motion, to first order: angle beta + omega_n t."""
+    angle = sym("beta") + OMEGA_N * TAU
+    return sp.Matrix([sp.cos(angle), sp.sin(angle)])
+
+
+@cache
+def contact_frame(case: str, form: str) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+    """(n, p1, p2) along the motion: p1 = f1 - r1 n (body 1's feature, or its circle's point
+    facing body 2) and p2 = p1 - d n with d = n.v - offset (body 2's edge point on the same
+    normal). Forms: "bodies" (the features R(th_i) f_i), "levers" (the levers an arbitrary path,
+    see `geometry`), "unit normal" (levers, and n any unit vector in place of the case's)."""
+    g = geometry(case, levers=form != "bodies")
+    n = unit_normal_path() if form == "unit normal" else g.n
+    radius1 = sym("r1") if case.startswith("circle") else 0
+    p1 = features(case, levers=form != "bodies")[0] - radius1 * n
+    return n, p1, p1 - (dot(n, g.v) - g.offset) * n
+
+
+def tangent(case: str, form: str) -> sp.Matrix:
+    """t = n turned by +90 degrees, along the motion."""
+    n = contact_frame(case, form)[0]
+    return sp.Matrix([-n[1], n[0]])
+
+
+@cache
+def tangent_velocity(case: str, form: str) -> tuple[sp.Expr, sp.Expr]:
+    """v_t = (u1(p1) - u2(p2)).t and d/dt v_t at the instant."""
+    _, p1, p2 = contact_frame(case, form)
+    vt = dot(material_velocity(B1, p1) - material_velocity(B2, p2), tangent(case, form))
+    return at_instant(vt), at_instant(vt, 1)
+
+
+def tangential_displacement_gradient(case: str, form: str) -> tuple[sp.Expr, ...]:
+    """d/dq of t.(P1 - P2) where P_i are the material points at p1, p2 displaced with their
+    bodies by (dx_i, dy_i, dth_i) and t is held: the tangential row of the displacement."""
+    _, p1, p2 = (at_instant(p) for p in contact_frame(case, form))
+    t0 = at_instant(tangent(case, form))
+    shifts = [sym(f"delta_{k}") for k in range(6)]
+
+    def displaced(p, body: Motion, k: int) -> sp.Matrix:
+        c, s = sp.cos(shifts[k + 2]), sp.sin(shifts[k + 2])
+        lever = p - at_instant(body.centre)
+        return p + sp.Matrix(shifts[k : k + 2]) + (sp.Matrix([[c, -s], [s, c]]) - sp.eye(2)) * lever
+
+    slip = dot(t0, displaced(p1, B1, 0) - displaced(p2, B2, 3))
+    return tuple(sp.diff(slip, q).subs({q: 0 for q in shifts}) for q in shifts)
+
+
+# ------------------------------------------------------------------------------------------
+# joints: anchors of both bodies held together (pin) or at a distance (distance joint)
+# ------------------------------------------------------------------------------------------
+
+
+def joint_separation(levers: bool = False) -> sp.Matrix:
+    """s = p1 - p2, the anchors' separation along the motion (levers: X_i + L_i with the levers
+    L_i an arbitrary path, see `lever_values`)."""
+    if levers:
+        return B1.centre + vector_path("l1") - B2.centre - vector_path("l2")
+    return B1.point(sym("px1"), sym("py1")) - B2.point(sym("px2"), sym("py2"))
+
+
+@cache
+def joint_rows(joint: str, levers: bool = False) -> tuple[sp.Expr, ...]:
+    """The constraint of each row along the motion: pin (s_x, s_y), distance |s| - length."""
+    s = joint_separation(levers)
+    if joint == "pin_joint":
+        return (s[0], s[1])
+    return (sp.sqrt(dot(s, s)) - sym("length"),)

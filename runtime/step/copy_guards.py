@@ -18,7 +18,7 @@ import numpy as np
 from runtime.collide.broadphase import candidate_pairs
 from runtime.model.scene import Scene
 from runtime.step.copies import Copies, Layout
-from runtime.step.guards import FixedEdges, Guards, inner_radius, passed_through
+from runtime.step.guards import FixedEdges, Guards, inner_radius, pair_passed_through
 from runtime.step.world import _TOO_LARGE
 
 
@@ -182,7 +182,7 @@ class CopyGuards:
         copy = self._copy_of(layout, i, j)
         keep = (inner[i] > 0) & (inner[j] > 0) & ~np.isin(copy, list(set(failed) | skip))
         i, j, copy = i[keep], j[keep], copy[keep]
-        while (hit := passed_through(q, new_q, inner, (i, j))) is not None:
+        while (hit := pair_passed_through(q, new_q, inner, i, j)) is not None:
             m = int(copy[hit])
             a, b = self.names[layout.template[i[hit]]], self.names[layout.template[j[hit]]]
             failed[m] = (

@@ -77,6 +77,24 @@ def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, int] | None
 
 
 @njit
+def _first_passing(start, end, inner, first, second):
+    """Index of the first pair (first[p], second[p]) whose centres of mass came closer than the
+    larger of their inner radii during the step (straight paths), or -1."""
+    for p in range(first.size):
+        i, j = first[p], second[p]
+        px, py = start[i, 0] - start[j, 0], start[i, 1] - start[j, 1]
+        dx = (end[i, 0] - end[j, 0]) - px
+        dy = (end[i, 1] - end[j, 1]) - py
+        dd = dx * dx + dy * dy
+        s = 0.0 if dd == 0.0 else min(max(-(px * dx + py * dy) / dd, 0.0), 1.0)
+        cx, cy = px + s * dx, py + s * dy
+        limit = max(inner[i], inner[j])
+        if cx * cx + cy * cy < limit * limit:
+            return p
+    return -1
+
+
+@njit
 def _passed_through(start, end, inner, hollow):
     """First pair (i, j) of bodies that are not ``hollow`` (fixed, or open chains) whose
     centres of mass came closer than the larger inner radius during the step, or (-1, -1)."""
@@ -87,20 +105,12 @@ def _passed_through(start, end, inner, hollow):
         dx, dy = end[b, 0] - start[b, 0], end[b, 1] - start[b, 1]
         reach[b] = 0.5 * np.sqrt(dx * dx + dy * dy) + inner[b]
     pairs = sweep(mid_x, mid_y, reach, hollow)
+    keep = np.empty(pairs.shape[0], np.bool_)
     for p in range(pairs.shape[0]):
-        i, j = pairs[p, 0], pairs[p, 1]
-        if hollow[i] or hollow[j]:
-            continue
-        px, py = start[i, 0] - start[j, 0], start[i, 1] - start[j, 1]
-        dx = (end[i, 0] - end[j, 0]) - px
-        dy = (end[i, 1] - end[j, 1]) - py
-        dd = dx * dx + dy * dy
-        s = 0.0 if dd == 0.0 else min(max(-(px * dx + py * dy) / dd, 0.0), 1.0)
-        cx, cy = px + s * dx, py + s * dy
-        limit = max(inner[i], inner[j])
-        if cx * cx + cy * cy < limit * limit:
-            return i, j
-    return -1, -1
+        keep[p] = not (hollow[pairs[p, 0]] or hollow[pairs[p, 1]])
+    first, second = pairs[keep, 0].copy(), pairs[keep, 1].copy()
+    p = _first_passing(start, end, inner, first, second)
+    return (-1, -1) if p < 0 else (first[p], second[p])
 
 
 def passed_through(
@@ -114,6 +124,17 @@ def passed_through(
     through each other."""
     i, j = _passed_through(start, end, inner, hollow)
     return None if i < 0 else (int(i), int(j))
+
+
+def pair_passed_through(
+    start: np.ndarray, end: np.ndarray, inner: np.ndarray, first: np.ndarray, second: np.ndarray
+) -> int | None:
+    """:func:`passed_through` over given pairs (first[p], second[p]) of bodies (an ensemble's
+    pairs within one copy): the index p of the first pair that passed through, or None."""
+    first = np.ascontiguousarray(first, dtype=np.int64)
+    second = np.ascontiguousarray(second, dtype=np.int64)
+    p = _first_passing(start, end, inner, first, second)
+    return None if p < 0 else p
 
 
 class FixedEdges:

@@ -61,3 +61,16 @@ def test_document_builds(tmp_path):
         check=False,
     )
     assert done.returncode == 0, done.stdout[-2000:]
+
+
+def test_document_lists_every_friction_row_and_joint_with_its_proofs():
+    """Each tangential row and joint has its subsection with its proofs, every one holding."""
+    tex = TEX.read_text()
+    expected = {f"{case}_friction": 4 for case in ALL_CASES} | {"pin_joint": 4, "distance_joint": 4}
+    for name, least in expected.items():
+        title = f"\\texttt{{{name.replace('_', chr(92) + '_')}}}"
+        assert tex.count(title) == 1, name
+        section = tex.split(title)[1].split("section")[0]
+        items = re.findall(r"\\item\[(.*?)\]", section)
+        assert len(items) >= least and set(items) == {"$\\checkmark$"}, (name, items)
+    assert tex.index("\\section{Tangential (friction) rows}") < tex.index("\\section{Joints}")

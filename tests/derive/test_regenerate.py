@@ -20,11 +20,11 @@ INSTALL_HINT = "pip install 'curved-edge-physics[derive]'"
 
 @pytest.fixture(autouse=True, scope="module")
 def _derive_each_case_once():
-    """Several tests here run the CLI in-process; derive each case once for all of them."""
-    original = generate.generate_case
-    generate.generate_case = functools.cache(original)
+    """Several tests here run the CLI in-process; derive each module once for all of them."""
+    original = generate.generate_module
+    generate.generate_module = functools.cache(original)
     yield
-    generate.generate_case = original
+    generate.generate_module = original
 
 
 def test_committed_outputs_are_up_to_date(capsys):

@@ -60,6 +60,16 @@ ROOT_GRID = 64  # points over a turn where the maximiser picks the best before i
 # (the global maximum's neighbourhood; as the previous narrow phase)
 WIDTH_DIRECTIONS = 180  # directions over a half turn for a shape's smallest width (exact
 # support per direction; the width is the depth limit of a plausible penetration)
+THICKNESS_RAYS = 16  # rays from a concave arc (a cup) into its material: the thinnest gives the
+# cup's depth limit (its hull's width would be the cup's depth); exact for a cup of uniform
+# thickness, whose every ray has the same length
+
+OVERLAP_DIRECTIONS = 720  # directions over a turn where runtime.model.regions.overlap_depth
+# (the depth of two convex parts' overlap, a centre of mass's distance outside a hull) picks the
+# best before its bounded 1-D search; the exact candidates (edge normals, lines between
+# corners and centres) are added to them
+CONVEX_EPS = 1e-9  # relative (to the part's size; rad for turns): a compound's part is convex
+# if its edges meet within this and no join turns back by more (rounding of end points)
 
 # -- contact forces (the LCP) ------------------------------------------------------------------
 # The solver works on the scaled problem S = D A D, D = diag(A)^-1/2 (unit diagonal: A in 1/kg,

@@ -77,9 +77,10 @@ def _corner_ok(rows, world, c, ux, uy, flat):
 @leaf
 def _way_out(rows, start, world, b, o, px, py):
     """A lower bound of the signed distance of p from closed body b (offset o): the best its
-    edges give (straight edges, convex arcs facing p and their end tangents, a scaled radius
+    edges give (straight edges, arcs facing p and a convex arc's end tangents, a scaled radius
     for an ellipse).  Positive: p is outside; negative: at most minus the depth of p's
-    shallowest way out."""
+    shallowest way out.  (A unit is convex, or a cup of at most a half turn, whose material
+    lies behind every edge's line or circle: runtime.model.shape_library.bowl.)"""
     px, py = px - o[0], py - o[1]
     best = -math.inf
     for s in range(start[b, SEGMENTS], start[b + 1, SEGMENTS]):
@@ -92,6 +93,10 @@ def _way_out(rows, start, world, b, o, px, py):
                 best = max(best, math.hypot(vx, vy) - r)
             for angle in (a0, a0 + rows[a, A_SPAN]):
                 best = max(best, math.cos(angle) * vx + math.sin(angle) * vy - r)
+        else:  # concave: p facing it inside its circle is out of the material (a cup's hollow)
+            vx, vy = px - world[a, X], py - world[a, Y]
+            if in_span(vy, vx, world[a, A_START], rows[a, A_SPAN]):
+                best = max(best, -r - math.hypot(vx, vy))
     for e in range(start[b, ELLIPSES], start[b + 1, ELLIPSES]):
         w = world[e]
         vx, vy, ea, eb, c, s = px - w[0], py - w[1], w[2], w[3], w[4], w[5]

@@ -17,6 +17,14 @@ concatenated with per-body ranges (:func:`scene_tables`).  All in body coordinat
 
 Every row ends with the index of its vertex (corners) or edge (the others) in the Shape: the
 feature index that :class:`~runtime.collide.contact_set.Contacts` reports.
+
+A compound body (``Shape.parts``) has one set of tables per part, its *units*: each part is
+convex, so the narrow phase's per-body reasoning (a closed body's inside, its depth limit)
+holds per unit, and a contact is between a part of one body and a part of another.  Feature
+indices are the compound's (its edges and vertices are the parts' in order).  A part's corner
+on another part's boundary is hidden or narrowed: its cone is intersected with that part's
+there (a vertex's cone, or an edge's normal), so a flat join of two parts (the side of a
+frame) or a reflex one (its inner corner) has no corner.
 """
 
 from __future__ import annotations
@@ -27,8 +35,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from runtime.model.ellipse_distance import nearest_on_ellipse
+from runtime.model.regions import edge_distance, edge_support, winding
 from runtime.model.shapes import TAU, Arc, Ellipse, Segment, Shape
-from runtime.settings import JOIN_EPS, TURN_EPS, WIDTH_DIRECTIONS
+from runtime.settings import JOIN_EPS, THICKNESS_RAYS, TURN_EPS, WIDTH_DIRECTIONS
 
 X, Y = 0, 1  # every table: the feature's point (corner, end, segment start, centre)
 C_NX, C_NY, C_WIDTH, C_ARC_BEFORE, C_ARC_AFTER, C_INDEX = 2, 3, 4, 5, 6, 7
@@ -58,41 +68,72 @@ class ShapeFeatures(NamedTuple):
 
 
 class FeatureTables(NamedTuple):
-    """A scene's features: one (F, WIDTH) table ``rows`` holding the corners of every body,
-    then their ends, segments, arcs and ellipses; rows ``start[b, kind]`` to
-    ``start[b + 1, kind]`` are body b's features of that kind.  ``body`` (n, 4): closed?,
-    half width, bounding radius, fixed? (as floats)."""
+    """A scene's features by unit (a body, or one part of a compound body): one (F, WIDTH)
+    table ``rows`` holding the corners of every unit, then their ends, segments, arcs and
+    ellipses; rows ``start[u, kind]`` to ``start[u + 1, kind]`` are unit u's features of that
+    kind.  ``body`` (U, 4): closed?, half width, bounding radius, fixed? (as floats);
+    ``owner`` (U,): the body of each unit (units of a body are consecutive); ``body_start``
+    (n + 1, 5): the same ranges per body (all its units)."""
 
     rows: np.ndarray
-    start: np.ndarray  # (n + 1, 5) int64
+    start: np.ndarray  # (U + 1, 5) int64
     body: np.ndarray
+    owner: np.ndarray  # (U,) int64
+    body_start: np.ndarray  # (n + 1, 5) int64
 
 
 def features(shape: Shape) -> ShapeFeatures:
-    """The shape's feature tables, built once and kept on the shape."""
+    """The shape's feature tables, built once and kept on the shape; a compound's are its
+    units' stacked (for what is asked of the whole body: its kinds and its depth limit, the
+    thinnest part's)."""
     found = shape._cache.get("features")
     if found is None:
-        found = shape._cache["features"] = _build(shape)
+        if shape.parts:
+            each = units(shape)
+            tables = tuple(np.concatenate([u.tables[k] for u in each]) for k in range(5))
+            half = min(u.half_width for u in each)
+            found = ShapeFeatures(tables, True, half, shape.bounding_radius)
+        else:
+            found = _build(shape)
+        shape._cache["features"] = found
+    return found
+
+
+def units(shape: Shape) -> tuple[ShapeFeatures, ...]:
+    """The feature tables of each unit of the shape: itself, or each part of a compound with
+    the compound's feature indices and its hidden corners left out."""
+    if not shape.parts:
+        return (features(shape),)
+    found = shape._cache.get("units")
+    if found is None:
+        found = shape._cache["units"] = _part_tables(shape)
     return found
 
 
 def scene_tables(shapes: Sequence[Shape], fixed: Sequence[bool]) -> FeatureTables:
-    """The features of every body, stacked (``fixed``: one flag per shape)."""
-    each = [features(s) for s in shapes]
+    """The features of every unit of every body, stacked (``fixed``: one flag per shape)."""
+    each, owner = [], []
+    for b, s in enumerate(shapes):
+        for u in units(s):
+            each.append(u)
+            owner.append(b)
     counts = np.array([[len(t) for t in f.tables] for f in each], dtype=np.int64).reshape(-1, 5)
     start = np.zeros((len(each) + 1, 5), dtype=np.int64)
     start[1:] = np.cumsum(counts, axis=0)
     start += np.concatenate([[0], np.cumsum(counts.sum(axis=0))[:-1]])  # kind blocks in turn
     rows = [f.tables[kind] for kind in range(5) for f in each]
     stacked = np.ascontiguousarray(np.concatenate(rows or [np.zeros((0, WIDTH))]))
+    flags = [bool(x) for x in fixed]
     body = np.array(
         [
-            (f.closed, f.half_width, f.bounding_radius, bool(x))
-            for f, x in zip(each, fixed, strict=True)
+            (f.closed, f.half_width, f.bounding_radius, flags[b])
+            for f, b in zip(each, owner, strict=True)
         ],
         dtype=float,
     ).reshape(-1, 4)
-    return FeatureTables(stacked, start, body)
+    owners = np.array(owner, dtype=np.int64)
+    first = np.searchsorted(owners, np.arange(len(shapes) + 1))
+    return FeatureTables(stacked, start, body, owners, np.ascontiguousarray(start[first]))
 
 
 def _table(rows: list) -> np.ndarray:
@@ -109,6 +150,8 @@ def _build(shape: Shape) -> ShapeFeatures:
         e_in, e_out = edges[i], edges[(i + 1) % n]
         if isinstance(e_in, Ellipse):
             continue
+        if math.dist(e_in.last, e_out.first) > JOIN_EPS * shape.bounding_radius:
+            continue  # the end of one loop (a ring's outer circle), not a join
         (ax, ay), (bx, by) = e_in.normal_last(), e_out.normal_first()
         turn = math.atan2(ax * by - ay * bx, ax * bx + ay * by)
         arc_in, arc_out = isinstance(e_in, Arc), isinstance(e_out, Arc)
@@ -143,24 +186,148 @@ def _build(shape: Shape) -> ShapeFeatures:
 
 def half_width(shape: Shape) -> float:
     """Half the smallest width of the shape: min over directions u of (h(u) + h(-u)) / 2 with
-    h the exact support function of its edges (a disc's is its radius)."""
+    h the exact support function of its edges (a disc's is its radius); for a shape with a
+    concave arc (a cup), at most half the material's thickness behind that arc."""
     a = np.linspace(0.0, math.pi, WIDTH_DIRECTIONS, endpoint=False)
     u = np.stack([np.cos(a), np.sin(a)], axis=1)
     reach = np.full((2, len(a)), -math.inf)
     for k, v in enumerate((u, -u)):
         for e in shape.edges:
-            reach[k] = np.maximum(reach[k], _support(e, v))
-    return 0.5 * float(np.min(reach.sum(axis=0)))
+            reach[k] = np.maximum(reach[k], edge_support(e, v))
+    half = 0.5 * float(np.min(reach.sum(axis=0)))
+    for e in shape.edges:
+        if isinstance(e, Arc) and not e.convex:
+            half = min(half, 0.5 * _thickness_behind(shape, e))
+    return half
 
 
-def _support(edge, u: np.ndarray) -> np.ndarray:
-    """max over the edge's points p of u . p, for each row u of ``u``."""
-    if isinstance(edge, Segment):
-        return np.maximum(u @ np.asarray(edge.start), u @ np.asarray(edge.end))
-    if isinstance(edge, Ellipse):
-        c, s = math.cos(edge.angle), math.sin(edge.angle)
-        along, across = c * u[:, 0] + s * u[:, 1], c * u[:, 1] - s * u[:, 0]
-        return u @ np.asarray(edge.centre) + np.hypot(edge.a * along, edge.b * across)
-    ends = np.maximum(*(u @ np.asarray(p) for p in edge.end_points))
-    facing = (np.arctan2(u[:, 1], u[:, 0]) - edge.start_angle) % TAU <= edge.span
-    return np.where(facing, u @ np.asarray(edge.centre) + abs(edge.radius), ends)
+def _thickness_behind(shape: Shape, arc: Arc) -> float:
+    """The material's thickness behind a concave arc: the shortest ray from a point of the arc
+    (THICKNESS_RAYS, inside its span), away from its centre, to another edge."""
+    best = math.inf
+    for k in range(THICKNESS_RAYS):
+        angle = arc.start_angle + arc.span * (k + 0.5) / THICKNESS_RAYS
+        p, d = np.array(arc.point(angle)), np.array([math.cos(angle), math.sin(angle)])
+        for e in shape.edges:
+            if e is not arc:
+                best = min(best, _ray_hit(p, d, e))
+    return best
+
+
+def _ray_hit(p: np.ndarray, d: np.ndarray, e) -> float:
+    """Distance along the unit ray p + s d (s > 0) to the edge (a segment or an arc), inf if
+    it misses."""
+    if isinstance(e, Segment):
+        a, b = np.asarray(e.start), np.asarray(e.end)
+        m = np.column_stack([d, a - b])
+        if abs(np.linalg.det(m)) < 1e-300:
+            return math.inf
+        s, t = np.linalg.solve(m, a - p)
+        return float(s) if s > 0 and 0.0 <= t <= 1.0 else math.inf
+    if not isinstance(e, Arc):
+        return math.inf
+    w = p - np.asarray(e.centre)
+    half_b, c = float(w @ d), float(w @ w) - e.radius**2
+    disc = half_b * half_b - c
+    if disc < 0:
+        return math.inf
+    for s in sorted((-half_b - math.sqrt(disc), -half_b + math.sqrt(disc))):
+        hit = w + s * d
+        if s > 0 and e.contains_angle(math.atan2(hit[1], hit[0])):
+            return s
+    return math.inf
+
+
+# -- compound bodies -------------------------------------------------------------------------
+
+
+def _part_tables(shape: Shape) -> tuple[ShapeFeatures, ...]:
+    """Each part's tables with the compound's feature indices (vertex and edge offsets of the
+    parts before it) and its corners on other parts hidden or narrowed."""
+    near = JOIN_EPS * shape.bounding_radius
+    found, vertex0, edge0 = [], 0, 0
+    for k, part in enumerate(shape.parts):
+        own = features(part)
+        corners, ends, segments, arcs, ellipses = (t.copy() for t in own.tables)
+        keep = []
+        for row in corners:
+            cone = (
+                math.atan2(row[C_NY], row[C_NX]),
+                row[C_WIDTH],
+                row[C_ARC_BEFORE],
+                row[C_ARC_AFTER],
+            )
+            for m, other in enumerate(shape.parts):
+                if m != k and cone is not None:
+                    cone = _narrowed(cone, _cone_of(other, (row[X], row[Y]), near))
+            if cone is not None:
+                start, width, before, after = cone
+                row[C_NX], row[C_NY], row[C_WIDTH] = math.cos(start), math.sin(start), width
+                row[C_ARC_BEFORE], row[C_ARC_AFTER] = before, after
+                keep.append(row)
+        corners = np.array(keep).reshape(-1, WIDTH)
+        corners[:, C_INDEX] += vertex0
+        ends[:, E_INDEX] += edge0
+        segments[:, S_INDEX] += edge0
+        arcs[:, A_INDEX] += edge0
+        ellipses[:, L_INDEX] += edge0
+        tables = (corners, ends, segments, arcs, ellipses)
+        found.append(ShapeFeatures(tables, True, own.half_width, own.bounding_radius))
+        vertex0, edge0 = vertex0 + len(part.vertices), edge0 + len(part.edges)
+    return tuple(found)
+
+
+def _cone_of(part: Shape, point: tuple[float, float], near: float):
+    """The directions in which ``point`` is extreme for the part (start angle, width, arc
+    before, arc after): "all" if the point is outside it, None if inside, a corner's cone
+    or an edge's normal (width 0) on its boundary."""
+    p = np.array([point])
+    distance = [float(edge_distance(e, p)[0]) for e in part.edges]
+    if min(distance) > near:
+        return None if winding(part, p)[0] != 0 else "all"
+    for row in features(part).tables[CORNERS]:
+        if math.hypot(row[X] - point[0], row[Y] - point[1]) <= near:
+            return (
+                math.atan2(row[C_NY], row[C_NX]),
+                row[C_WIDTH],
+                row[C_ARC_BEFORE],
+                row[C_ARC_AFTER],
+            )
+    e = part.edges[int(np.argmin(distance))]
+    if isinstance(e, Segment):
+        n, curved = e.normal, 0.0
+    elif isinstance(e, Arc):
+        n, curved = e.normal_at(math.atan2(point[1] - e.centre[1], point[0] - e.centre[0])), 1.0
+    else:
+        c, s = math.cos(e.angle), math.sin(e.angle)
+        local = np.array(
+            [
+                [
+                    c * (point[0] - e.centre[0]) + s * (point[1] - e.centre[1]),
+                    c * (point[1] - e.centre[1]) - s * (point[0] - e.centre[0]),
+                ]
+            ]
+        )
+        (qx, qy), curved = nearest_on_ellipse(e.a, e.b, local)[0], 1.0
+        gx, gy = qx / e.a**2, qy / e.b**2
+        n = (c * gx - s * gy, s * gx + c * gy)
+    return (math.atan2(n[1], n[0]), 0.0, curved, curved)
+
+
+def _narrowed(cone, other):
+    """The intersection of a corner's cone (start angle, width, arc flags of its sides) with
+    ``other`` ("all", None: empty, or a cone); None if nothing of width > TURN_EPS is left."""
+    if other is None or other == "all":
+        return cone if other == "all" else None
+    a1, w1, before1, after1 = cone
+    a2, w2, before2, after2 = other
+    shift = (a2 - a1) % TAU
+    best = None
+    for b in (shift, shift - TAU):
+        lo, hi = max(0.0, b), min(w1, b + w2)
+        if hi - lo > TURN_EPS and (best is None or hi - lo > best[1] - best[0]):
+            best = (lo, hi, before1 if lo == 0.0 else before2, after1 if hi == w1 else after2)
+    if best is None:
+        return None
+    lo, hi, before, after = best
+    return (a1 + lo, hi - lo, before, after)

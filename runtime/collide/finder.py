@@ -10,6 +10,9 @@ and feature choice by geometric distances), the generated kernels' gaps per case
 Only the compiled kernel modules of :func:`possible_cases` are imported ("model only what a
 scene needs": a scene of discs and walls never loads a vertex kernel).  A finder keeps
 buffers between calls, so one finder must not be used from two threads at once.
+
+Compound bodies: the compiled stages work on units (runtime.collide.features: a body, or one
+part of a compound body, with its body's pose), and the contacts found name the bodies.
 """
 
 from __future__ import annotations
@@ -125,11 +128,14 @@ class ContactFinder:
         self.groups = check_groups(groups, self.n)
         self.cases = frozenset(possible_cases(shapes, flags))
         self.tables = scene_tables(shapes, flags)
+        self.owner = self.tables.owner
+        self.compound = len(self.owner) > self.n  # some body has several units (parts)
+        self._unit_groups = self.groups[self.owner] if self.groups.size else self.groups
         self.has_ovals = bool(np.any(np.diff(self.tables.start[:, 4])))
         self._kernels = [(CASE_ID[case], _kernel(case)) for case in sorted(self.cases)]
         self._zeros = np.zeros(self.n)
         self._everyone = np.ones(self.n, dtype=np.bool_)
-        self._allocate(8 * self.n + 16)
+        self._allocate(8 * len(self.owner) + 16)
 
     def _allocate(self, capacity: int) -> None:
         self._candidates = np.zeros((capacity, COLUMNS))
@@ -162,15 +168,29 @@ class ContactFinder:
         base = _tolerance(tolerance)
         widen = self._zeros if margins is None else self._margins(margins)
         allow = self._everyone if allowed is None else np.ascontiguousarray(allowed, np.bool_)
-        rows, start, body = self.tables
+        given = p
+        if self.compound:  # per unit: its body's
+            p, widen, allow = p[self.owner], widen[self.owner], allow[self.owner]
+        rows, start, body, owner = self.tables[:4]
         while True:
             inputs = self._kernel_inputs
             count = find_candidates(
-                p, base, widen, allow, self.groups, rows, start, body, self._candidates, inputs
+                p,
+                base,
+                widen,
+                allow,
+                self._unit_groups,
+                rows,
+                start,
+                body,
+                owner,
+                self.compound,
+                self._candidates,
+                inputs,
             )
             if count < 0:
-                b = -1 - count
-                raise ValueError(f"poses must be finite; poses[{b}] = {p[b].tolist()}")
+                b = int(owner[-1 - count])
+                raise ValueError(f"poses must be finite; poses[{b}] = {given[b].tolist()}")
             if count <= len(self._candidates):
                 break
             self._allocate(2 * count)
@@ -201,6 +221,8 @@ class ContactFinder:
         if m < count:
             gap, out = gap[:m], tuple(a[:m] for a in out)
         case, one, two, geometry, feature, point, normal = out
+        if self.compound:
+            one, two = owner[one], owner[two]
         return Contacts(case, one, two, geometry, feature, gap, point, normal)
 
     def refresh_ovals(self, poses: np.ndarray, contacts: Contacts) -> Contacts:
@@ -213,7 +235,7 @@ class ContactFinder:
         geometry = contacts.geometry.copy()
         t = self.tables
         ovals.refresh(
-            p, contacts.body1, contacts.body2, contacts.feature, geometry, t.rows, t.start
+            p, contacts.body1, contacts.body2, contacts.feature, geometry, t.rows, t.body_start
         )
         return replace(contacts, geometry=geometry)
 

@@ -104,12 +104,33 @@ def _world(rows, start, poses):
 
 
 @njit
-def find_candidates(poses, base, margins, allowed, groups, rows, start, body, cand, kernel_inputs):
-    """Broad phase, then the candidates of every pair of ``allowed`` bodies (of one collision
+def _by_body(pairs, owner):
+    """The pairs of units of different bodies, sorted by their bodies' pair (stable), and the
+    number of that body pair for each."""
+    keep = owner[pairs[:, 0]] != owner[pairs[:, 1]]
+    pairs = pairs[keep]
+    key = owner[pairs[:, 0]] * (owner[-1] + 1) + owner[pairs[:, 1]]
+    order = np.argsort(key, kind="mergesort")
+    pairs, key = pairs[order], key[order]
+    number = np.zeros(len(pairs))
+    for p in range(1, len(pairs)):
+        number[p] = number[p - 1] + (key[p] != key[p - 1])
+    return pairs, number
+
+
+@njit
+def find_candidates(
+    poses, base, margins, allowed, groups, rows, start, body, owner, compound, cand, kernel_inputs
+):
+    """Broad phase, then the candidates of every pair of ``allowed`` units (of one collision
     group, or one of group -1, if ``groups`` is not empty: runtime.collide.broadphase) into
-    ``cand`` (a row per candidate, runtime.collide.candidates.COLUMNS) and the ``kernel_inputs``
-    (:func:`_kernel_inputs`).  Returns their number (more than ``cand`` holds: grow it and call
-    again), or -1 - b if the pose or margin of body b is not finite."""
+    ``cand`` (a row per candidate, runtime.collide.candidates.COLUMNS) and the
+    ``kernel_inputs`` (:func:`_kernel_inputs`).  A unit is a body or a part of a compound body
+    (``owner``: the body of each; ``poses``, ``margins``, ``allowed``, ``groups``: per unit,
+    those of its body); with ``compound``, pairs of one body's parts are skipped and the
+    candidates are grouped by the pair of bodies (their PAIR column).  Returns their number
+    (more than ``cand`` holds: grow it and call again), or -1 - u if the pose or margin of
+    unit u is not finite."""
     n = len(poses)
     for b in range(n):
         if not (np.isfinite(poses[b, 0]) and np.isfinite(poses[b, 1]) and np.isfinite(poses[b, 2])):
@@ -124,6 +145,9 @@ def find_candidates(poses, base, margins, allowed, groups, rows, start, body, ca
         pairs = sweep(x, y, reach, fixed)
     else:
         pairs = sweep_groups(x, y, reach, fixed, groups)
+    number = np.arange(len(pairs)).astype(np.float64)
+    if compound:
+        pairs, number = _by_body(pairs, owner)
     world = _world(rows, start, poses)
     k = 0
     for p in range(len(pairs)):
@@ -139,7 +163,7 @@ def find_candidates(poses, base, margins, allowed, groups, rows, start, body, ca
             float(j),
             oix,
             oiy,
-            float(p),
+            number[p],
             poses[i, 2],
             poses[j, 2],
             body[i, CLOSED],

@@ -26,6 +26,7 @@ from runtime.collide.features import (
     A_INDEX,
     A_R,
     ARCS,
+    C_INDEX,
     CORNERS,
     ELLIPSES,
     L_A,
@@ -216,7 +217,7 @@ def refresh(poses, body1, body2, feature, geometry, rows, start):
             ny = sn * rows[s, S_NX] + c * rows[s, S_NY]
             t1 = support_parameter(f1[2], f1[3], f1[4], f1[5], -nx, -ny)
         elif feature[k, 0] == VERTEX:  # a corner on an ellipse
-            corner = rows[start[i, CORNERS] + feature[k, 1]]
+            corner = rows[_row(rows, start, i, CORNERS, feature[k, 1], C_INDEX)]
             nx, ny = separation(circle(corner, th1, ox, oy, 0.0), f2)
             t2 = support(f2, nx, ny)[2]
         elif e1 >= 0 and e2 >= 0:

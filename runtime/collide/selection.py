@@ -4,15 +4,21 @@ Why: the candidate stage (runtime.collide.narrowphase) chose features by geometr
 here the generated kernels' gaps decide, per pair of bodies:
 
 - a candidate is a contact if its gap is at most the pair's tolerance (base + both margins);
-- a penetrating one (gap < 0) only if plausible: no deeper than half the thinner body; a smooth
+- a penetrating one (gap < 0) only if plausible: no deeper than half the thinner body (the
+  thinner part, for compound bodies, whose units are their parts); a smooth
   end at most CONE_SLACK beyond its arc; a vertex in a closed body 2 inside it (its way out not
   positive) and not much deeper than its shallowest way out (WAY_OUT_MARGIN), unless nothing
   better describes the overlap: implausible candidates go only if the pair has a plausible
   penetration;
 - against a closed body, a body-1 feature with a contact at a larger gap loses its penetrating
   ones (only its shallowest stays);
-- one constraint reported from both bodies (two corners meeting: the same mid-point and gap
-  within DUPLICATE_EPS, parallel normals) is kept once.
+- one constraint reported twice (from both bodies: two corners meeting; or from two parts of
+  a compound body: a disc on the join of two flush sides; the same mid-point and gap within
+  DUPLICATE_EPS, parallel normals) is kept once.
+
+The candidates come grouped by pair of bodies (runtime.collide.narrowphase), so these rules
+see all the contacts of two compound bodies together; "body" in them is a unit: a body or a
+part of a compound body.
 
 The kept candidates, in their order, become the arrays of
 :class:`~runtime.collide.contact_set.Contacts` (points in world coordinates).
@@ -50,7 +56,7 @@ from runtime.settings import (
 
 
 @leaf
-def _admit(k, gap, tol, depth, body, body2, cand, plausible):
+def _admit(k, gap, tol, body, body1, body2, cand, plausible):
     """Whether candidate k is a contact at its kernel gap (sets ``plausible[k]``)."""
     g = gap[k]
     plausible[k] = True
@@ -58,6 +64,7 @@ def _admit(k, gap, tol, depth, body, body2, cand, plausible):
         return False
     if g >= 0.0:
         return True
+    depth = min(body[body1[k], HALF_WIDTH], body[body2[k], HALF_WIDTH])
     if -g > depth or (cand[k, KIND1] == END and cand[k, END_ANGLE] > CONE_SLACK):
         return False
     b2 = body2[k]
@@ -71,11 +78,11 @@ def _admit(k, gap, tol, depth, body, body2, cand, plausible):
 
 
 @leaf
-def _select_pair(k0, k1, keep, plausible, admitted, gap, tol, depth, eps, body, body1, body2, cand):
+def _select_pair(k0, k1, keep, plausible, admitted, gap, tol, eps, body, body1, body2, cand):
     """Set ``keep`` for the candidates k0 <= k < k1 of one pair (``admitted``: scratch)."""
     deep = False
     for k in range(k0, k1):
-        keep[k] = _admit(k, gap, tol, depth, body, body2, cand, plausible)
+        keep[k] = _admit(k, gap, tol, body, body1, body2, cand, plausible)
         deep |= keep[k] and plausible[k] and gap[k] < 0.0
     alive = 0
     for k in range(k0, k1):
@@ -125,11 +132,8 @@ def select(poses, base, margins, body, cand, count, body1, body2, gap, out):
             k1 += 1
         i, j = body1[k0], body2[k0]
         tol = base + margins[i] + margins[j]
-        depth = min(body[i, HALF_WIDTH], body[j, HALF_WIDTH])
         eps = DUPLICATE_EPS * (body[i, RADIUS] + body[j, RADIUS])
-        _select_pair(
-            k0, k1, keep, plausible, admitted, gap, tol, depth, eps, body, body1, body2, cand
-        )
+        _select_pair(k0, k1, keep, plausible, admitted, gap, tol, eps, body, body1, body2, cand)
         k0 = k1
     return _write(poses, cand, count, keep, body1, body2, gap, *out)
 

@@ -4,11 +4,12 @@ The narrow phase (runtime/collide/selection.py) keeps a penetrating contact only
 for a simulation step, e.g. no deeper than half the thinner body, so a disc placed with its
 centre on a floor, or inside another body, yields no contact at all.  A scene file with such a
 mistake must still be refused, so this module samples each body's boundary (corners, points
-along every edge, and the centroid) and asks whether a sample lies inside the material of
-another body, and how deep (its exact distance from the boundary, also for an ellipse:
-runtime/model/ellipse_distance.py): inside a closed shape (exact winding number), or behind
-a fixed wall, bowl or box while the body also reaches in front of it (a body entirely behind a
-one-sided wall is not in contact with it).
+along every edge, and the centroid of each part where it is material: not a cup's or a
+frame's hollow) and asks whether a sample lies inside the material of another body, and how
+deep (its exact distance from the boundary, also for an ellipse: runtime/model/regions.py):
+inside a closed shape (exact winding number; for a compound body, the deepest in one of its
+parts), or behind a fixed wall, bowl or box while the body also reaches in front of it (a
+body entirely behind a one-sided wall is not in contact with it).
 """
 
 from __future__ import annotations
@@ -19,8 +20,8 @@ from typing import Any
 import numpy as np
 
 from runtime.collide.broadphase import candidate_pairs
-from runtime.model.ellipse_distance import ellipse_distance
-from runtime.model.shapes import TAU, Arc, Ellipse, Segment
+from runtime.model.regions import edge_distance, winding
+from runtime.model.shapes import TAU, Arc, Segment
 
 __all__ = ["deepest_overlap"]
 
@@ -38,7 +39,8 @@ def _local(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
 
 
 def samples(shape: Any) -> np.ndarray:
-    """Points of the shape (body coordinates): corners, points along the edges, centroid."""
+    """Points of the shape (body coordinates): corners, points along the edges, and the
+    centroid of each part (or of the shape) that lies in its material."""
     pts = [np.asarray(v, dtype=float) for v in shape.vertices]
     t = np.linspace(0.0, 1.0, SAMPLES_PER_EDGE)
     for e in shape.edges:
@@ -50,55 +52,23 @@ def samples(shape: Any) -> np.ndarray:
         else:
             pts.extend(np.array(e.point(a)) for a in np.linspace(0, TAU, 4 * SAMPLES_PER_EDGE))
     if shape.closed:
-        pts.append(np.asarray(shape.centroid, dtype=float))
+        for part in shape.parts or (shape,):
+            centroid = np.asarray(part.centroid, dtype=float)
+            if winding(part, centroid)[0] != 0:
+                pts.append(centroid)
     return np.array(pts, dtype=float).reshape(-1, 2)
 
 
-def _winding(shape: Any, p: np.ndarray) -> np.ndarray:
-    """Winding number of a closed boundary around the points ``p`` (exact for arcs)."""
-    total = np.zeros(len(p))
-    for e in shape.edges:
-        if isinstance(e, Ellipse):
-            q = _local(p, np.array([*e.centre, e.angle]))
-            return ((q[:, 0] / e.a) ** 2 + (q[:, 1] / e.b) ** 2 < 1.0).astype(float)
-        if isinstance(e, Segment):
-            a, b = np.asarray(e.start) - p, np.asarray(e.end) - p
-            total += np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.einsum("ij,ij->i", a, b))
-            continue
-        a, b = np.asarray(e.first) - p, np.asarray(e.last) - p
-        swept = np.arctan2(b[:, 1], b[:, 0]) - np.arctan2(a[:, 1], a[:, 0])
-        inside_circle = np.hypot(*(p - np.asarray(e.centre)).T) < abs(e.radius)
-        if e.convex:  # counter-clockwise: from inside the circle the angle only increases
-            turn = np.where(inside_circle, np.mod(swept, TAU), _wrap(swept))
-            total += np.where(inside_circle & e.full, TAU, turn)
-        else:
-            total += np.where(inside_circle, -np.mod(-swept, TAU), _wrap(swept))
-    return np.rint(total / TAU)
-
-
-def _wrap(angle: np.ndarray) -> np.ndarray:
-    return (angle + math.pi) % TAU - math.pi
-
-
-def _edge_distance(e: Any, p: np.ndarray) -> np.ndarray:
-    if isinstance(e, Segment):
-        a, b = np.asarray(e.start), np.asarray(e.end)
-        t = np.clip((p - a) @ (b - a) / float((b - a) @ (b - a)), 0.0, 1.0)
-        return np.hypot(*(p - a - np.outer(t, b - a)).T)
-    if isinstance(e, Ellipse):  # exact: a sampled ring overstated it by half its spacing
-        return ellipse_distance(e.a, e.b, _local(p, np.array([*e.centre, e.angle])))
-    v = p - np.asarray(e.centre)
-    on_span = np.array([e.contains_angle(a) for a in np.arctan2(v[:, 1], v[:, 0])], dtype=bool)
-    ends = [np.hypot(*(p - np.asarray(q)).T) for q in e.end_points]
-    return np.where(on_span, np.abs(np.hypot(*v.T) - abs(e.radius)), np.minimum(*ends))
-
-
 def _depth_closed(shape: Any, p: np.ndarray) -> np.ndarray:
-    inside = _winding(shape, p) != 0
-    if not inside.any():
-        return np.zeros(len(p))
-    depth = np.min([_edge_distance(e, p) for e in shape.edges], axis=0)
-    return np.where(inside, depth, 0.0)
+    """How deep the points are inside the shape: the depth in the part they are in (a lower
+    bound of the depth in a compound, whose parts' shared sides are inside it)."""
+    depth = np.zeros(len(p))
+    for part in shape.parts or (shape,):
+        inside = winding(part, p) != 0
+        if inside.any():
+            nearest = np.min([edge_distance(e, p) for e in part.edges], axis=0)
+            depth = np.maximum(depth, np.where(inside, nearest, 0.0))
+    return depth
 
 
 def _behind(e: Any, p: np.ndarray) -> np.ndarray:

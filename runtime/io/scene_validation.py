@@ -33,6 +33,7 @@ from runtime.io.scene_table import (
     unprintable,
 )
 from runtime.model import shape_library
+from runtime.model.scene import center_of_mass_error
 from runtime.settings import MAX_ANGLE
 from runtime.step.integrators import METHODS
 
@@ -65,6 +66,7 @@ BODY_KEYS = (
     "density",
     "mass",
     "inertia",
+    "center_of_mass",
     "position",
     "angle",
     "velocity",
@@ -73,8 +75,9 @@ BODY_KEYS = (
 )
 
 # Shape type -> its parameters and their kinds: "positive", "nonnegative", "finite" numbers,
-# "vector" [x, y], "points" [[x, y], ...] (all required) or "flag" (optional bool, default
-# false).  They are passed by keyword to the shape_library constructor of the same name.
+# "vector" [x, y], "points" [[x, y], ...], "parts" [{type = ...}, ...] (all required),
+# "flag" (optional bool, default false) or "thickness" (optional number > 0).  They are passed
+# by keyword to the shape_library constructor of the same name.
 SHAPE_PARAMETERS: dict[str, dict[str, str]] = {
     "disc": {"radius": "positive"},
     "polygon": {"points": "points"},
@@ -88,42 +91,105 @@ SHAPE_PARAMETERS: dict[str, dict[str, str]] = {
         "start_angle": "finite",
         "end_angle": "finite",
         "end_vertices": "flag",
+        "thickness": "thickness",
     },
-    "box_walls": {"width": "positive", "height": "positive", "end_vertices": "flag"},
+    "box_walls": {
+        "width": "positive",
+        "height": "positive",
+        "end_vertices": "flag",
+        "thickness": "thickness",
+    },
+    "frame": {"width": "positive", "height": "positive", "thickness": "positive"},
+    "compound": {"parts": "parts"},
 }
-# Shapes without area (walls) or with a concave edge (bowl): fixed bodies only.
+# Shapes without area: fixed bodies only (a bowl or box with a thickness has area).
 FIXED_ONLY_SHAPES = ("wall", "bowl", "box_walls")
+# The shapes a compound's parts may be: closed and convex.
+PART_SHAPES = ("disc", "polygon", "rounded_rect", "half_disc", "d_shape", "ellipse")
 
 
 def read_shape_spec(body: Table, *, fixed: bool) -> tuple[str, dict[str, Any]]:
-    """The ``shape`` table of a body: its type and checked constructor keyword arguments."""
+    """The ``shape`` table of a body: its type and checked constructor keyword arguments (a
+    compound's ``parts`` already built)."""
     shape = body.subtable("shape", prefix="shape.")
-    kind = shape.string("type", REQUIRED)
-    if kind not in SHAPE_PARAMETERS:
+    kind, kwargs = _read_shape_table(shape)
+    if not fixed and kind in FIXED_ONLY_SHAPES and "thickness" not in kwargs:
+        thicken = "" if kind == "wall" else "give it a 'thickness' (material behind it) or "
         shape.fail(
             "type",
-            unknown_type_hint(kind, list(SHAPE_PARAMETERS)),
+            f"a {kind!r} has no area and cannot move; {thicken}use it on a fixed body "
+            "(fixed = true)",
         )
+    return kind, kwargs
+
+
+def _read_shape_table(shape: Table) -> tuple[str, dict[str, Any]]:
+    kind = shape.string("type", REQUIRED)
+    if kind not in SHAPE_PARAMETERS:
+        shape.fail("type", unknown_type_hint(kind, list(SHAPE_PARAMETERS)))
     params = SHAPE_PARAMETERS[kind]
     shape.check_keys(("type", *params))
-    if not fixed and kind in FIXED_ONLY_SHAPES:
-        if kind == "bowl":
-            reason = "a concave edge (bowl) on a moving body is not supported"
-        else:
-            reason = f"a {kind!r} has no area and cannot move"
-        shape.fail("type", f"{reason}; use it on a fixed body (fixed = true)")
     kwargs: dict[str, Any] = {}
     for name, kind_of in params.items():
         if kind_of == "points":
             kwargs[name] = shape.points(name)
+        elif kind_of == "parts":
+            kwargs[name] = _read_parts(shape, name)
         elif kind_of == "vector":
             kwargs[name] = shape.vector(name, REQUIRED)
         elif kind_of == "flag":
             if shape.has(name):
                 kwargs[name] = shape.boolean(name)
+        elif kind_of == "thickness":
+            if shape.has(name):
+                kwargs[name] = shape.number(name, check="positive")
         else:
             kwargs[name] = shape.number(name, REQUIRED, check=kind_of)
     return kind, kwargs
+
+
+def _read_parts(shape: Table, key: str) -> list[Any]:
+    """A compound's ``parts``: a list of shape tables of closed convex shapes, each built."""
+    value = shape.data.get(key, REQUIRED)
+    if value is REQUIRED:
+        shape.fail(key, "missing required field")
+    if not is_sequence(value) or len(value) == 0:
+        shape.fail(
+            key, f"expected a list of shape tables [{{ type = ... }}, ...], got {describe(value)}"
+        )
+    parts = []
+    for k, raw in enumerate(value):
+        where = f"{key}[{k}]"
+        part = Table(
+            raw, shape.source, shape.where, f"{shape.prefix}{where}.", shape.prefix + where
+        )
+        kind = part.string("type", REQUIRED)
+        if kind in SHAPE_PARAMETERS and kind not in PART_SHAPES:
+            part.fail(
+                "type",
+                f"a part must be a closed convex shape ({', '.join(PART_SHAPES)}), not {kind!r}",
+            )
+        kind, kwargs = _read_shape_table(part)
+        parts.append(_build_shape(part, kind, kwargs))
+    return parts
+
+
+def _build_shape(table: Table, kind: str, kwargs: dict[str, Any]) -> Any:
+    """The shape_library constructor's shape of a shape table (its fields ``table.prefix`` +
+    parameter); a ValueError names the parameter it is about."""
+    at = Table({}, table.source, table.where)
+    degrees = [k for k in ("start_angle", "end_angle") if looks_like_degrees(kwargs.get(k, 0.0))]
+    try:
+        shape = getattr(shape_library, kind)(**kwargs)
+    except ValueError as exc:
+        hint = f"; {degrees_hint([kwargs[k] for k in degrees])}" if degrees else ""
+        about = _shape_field(str(exc), kwargs)
+        at.fail(table.prefix + about if about else table.prefix.rstrip("."), f"{exc}{hint}")
+    except ArithmeticError as exc:  # e.g. OverflowError from math.* on extreme sizes
+        at.fail(table.prefix.rstrip("."), f"{kind}: its size is out of range ({exc})")
+    for key in degrees:
+        at.warn(table.prefix + key, degrees_hint([kwargs[key]]))
+    return shape
 
 
 def read_simulation(data: Any, source: str, default_duration: float) -> dict[str, Any]:
@@ -178,16 +244,7 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
     name = table.name("name", f"body{index + 1}")
     fixed = table.boolean("fixed", False)
     kind, kwargs = read_shape_spec(table, fixed=fixed)
-    degrees = [k for k in ("start_angle", "end_angle") if looks_like_degrees(kwargs.get(k, 0.0))]
-    try:
-        shape = getattr(shape_library, kind)(**kwargs)
-    except ValueError as exc:
-        hint = f"; {degrees_hint([kwargs[k] for k in degrees])}" if degrees else ""
-        table.fail(_shape_field(str(exc), kwargs), f"{exc}{hint}")
-    except ArithmeticError as exc:  # e.g. OverflowError from math.* on extreme sizes
-        table.fail("shape", f"{kind}: its size is out of range ({exc})")
-    for key in degrees:
-        table.warn(f"shape.{key}", degrees_hint([kwargs[key]]))
+    shape = _build_shape(table.subtable("shape", prefix="shape."), kind, kwargs)
     spec: dict[str, Any] = {
         "name": name,
         "shape": shape,
@@ -197,7 +254,7 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
         "restitution": table.number("restitution", 0.0, check="unit"),
     }
     if fixed:
-        for key in ("mass", "density", "inertia"):
+        for key in ("mass", "density", "inertia", "center_of_mass"):
             if table.has(key):
                 table.fail(key, "a fixed body has infinite mass; remove this field")
         if table.vector("velocity", (0.0, 0.0)) != (0.0, 0.0):
@@ -214,8 +271,11 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
     area = float(shape.area)
     if not (math.isfinite(area) and area > 0):
         table.fail("shape", f"a moving body needs a shape with area > 0, got area {area}")
-    if any(getattr(edge, "radius", 0.0) < 0 for edge in shape.edges):
-        table.fail("shape", "a concave edge on a moving body is not supported; make it fixed")
+    if table.has("center_of_mass"):
+        spec["center_of_mass"] = table.vector("center_of_mass")
+        problem = center_of_mass_error(shape, spec["center_of_mass"])
+        if problem:
+            table.fail("center_of_mass", problem)
     spec["velocity"] = table.vector("velocity", (0.0, 0.0))
     spec["angular_velocity"] = table.number("angular_velocity", 0.0)
     _check_mass_properties(table, spec, shape)
@@ -251,7 +311,8 @@ def _check_mass_properties(table: Table, spec: Mapping[str, Any], shape: Any) ->
     """Mass and inertia (given, or from density x area and mass x second moment / area) must be
     positive with finite inverses (the engine uses 1/m and 1/I), and the body's kinetic energy
     finite: otherwise the first step would produce inf or NaN."""
-    area, second_moment = float(shape.area), float(shape.second_moment)
+    area = float(shape.area)
+    second_moment = shape.second_moment_about(spec.get("center_of_mass", shape.centroid))
     with np.errstate(all="ignore"):
         mass = spec["mass"] if spec["mass"] is not None else spec["density"] * area
         inertia = spec["inertia"]
@@ -287,11 +348,11 @@ def _check_mass_properties(table: Table, spec: Mapping[str, Any], shape: Any) ->
 
 
 def _shape_field(message: str, kwargs: Mapping[str, Any]) -> str:
-    """The ``shape.<parameter>`` a shapes-constructor error is about: the parameter named
-    first in its message (they read "polygon: points must be ...")."""
+    """The parameter a shapes-constructor error is about: the one named first in its message
+    (they read "polygon: points must be ...")."""
     found = [
         (m.start(), name)
         for name in kwargs
         if (m := re.search(rf"\b{re.escape(name)}\b", message)) is not None
     ]
-    return f"shape.{min(found)[1]}" if found else "shape"
+    return min(found)[1] if found else ""

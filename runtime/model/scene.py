@@ -19,8 +19,10 @@ import numpy as np
 from runtime.collide import contacts as _contacts
 from runtime.collide.contact_set import Contacts
 from runtime.collide.finder import ContactFinder
+from runtime.model.regions import overlap_depth
+from runtime.settings import JOIN_EPS
 
-__all__ = ["Body", "Scene", "SimulationDefaults"]
+__all__ = ["Body", "Scene", "SimulationDefaults", "center_of_mass_error"]
 
 Vec2 = tuple[float, float]
 
@@ -95,24 +97,39 @@ class Body:
         angular_velocity: float = 0.0,
         fixed: bool = False,
         restitution: float = 0.0,
+        center_of_mass: Sequence[float] | None = None,
     ) -> Body:
         """A body from a shape in its own coordinates.
 
         ``position`` and ``velocity`` are those of the shape's own origin (the point (0, 0) of
         the coordinates the shape was written in); the centre-of-mass state is derived.  A
         moving body needs ``mass`` or ``density``; ``inertia`` defaults to density times the
-        shape's second moment.  A fixed body keeps the shape's own coordinates (no mass).
-        Unlike :func:`scene_from_dict`, this raises a plain ValueError and checks no overlaps.
+        shape's second moment.  ``center_of_mass`` (shape coordinates, default the centroid)
+        places the centre of mass elsewhere, e.g. for a weighted body; it must lie in the
+        shape's convex hull (no mass on the shape can put it outside), and the default inertia
+        is then the shape's about that point (parallel-axis theorem, ``m (J_c / A + |d|^2)``).
+        A fixed body keeps the shape's own coordinates (no mass).  Unlike
+        :func:`scene_from_dict`, this raises a plain ValueError and checks no overlaps.
         """
         if fixed:
+            if center_of_mass is not None:
+                raise ValueError(
+                    f"body {name!r}: a fixed body has no center_of_mass (its mass "
+                    "is infinite); remove it"
+                )
             return cls(
                 name, shape, position=position, angle=angle, fixed=True, restitution=restitution
             )
         if (mass is None) == (density is None):
             raise ValueError(f"body {name!r}: give exactly one of mass and density")
-        centred, offset = shape.centred()
+        problem = None if center_of_mass is None else center_of_mass_error(shape, center_of_mass)
+        if problem:
+            raise ValueError(f"body {name!r}: center_of_mass {problem}")
+        centred, offset = shape.centred(center_of_mass)
         if mass is None:
             mass = float(density) * float(centred.area)
+        if inertia is None and center_of_mass is not None:
+            inertia = float(mass) * shape.second_moment_about(offset) / float(shape.area)
         lever = _rotate(angle, offset)  # from the shape origin to the centre of mass, world axes
         com = np.asarray(position, dtype=float) + lever
         com_velocity = np.asarray(velocity, dtype=float) + angular_velocity * np.array(
@@ -152,6 +169,20 @@ class Body:
     def origin_position(self) -> np.ndarray:
         """World position of the shape's own origin (what a scene file's ``position`` gives)."""
         return np.asarray(self.position) + _rotate(self.angle, self.origin)
+
+
+def center_of_mass_error(shape: Any, point: Sequence[float]) -> str | None:
+    """What is wrong with a centre of mass at ``point`` (shape coordinates), or None: outside
+    the shape's convex hull no positive mass on the shape can put it (a point written in world
+    coordinates, or a typo)."""
+    x, y = float(point[0]), float(point[1])
+    depth = overlap_depth(shape, (x, y)) if math.isfinite(x) and math.isfinite(y) else -math.inf
+    if depth >= -JOIN_EPS * shape.bounding_radius:
+        return None
+    return (
+        f"({x:g}, {y:g}) is {-depth:.3g} m outside the shape's convex hull, where no mass on "
+        "the shape can put it; give it in the shape's own coordinates"
+    )
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,5 @@
 """The named shapes a scene file can ask for: polygon, disc, rounded_rect, half_disc, d_shape,
-ellipse, and the fixed walls, bowls and boxes.
+ellipse, walls, bowls and boxes, and bodies of several convex parts (compound, frame).
 
 Each constructor builds a :class:`runtime.model.shapes.Shape` in the shape's own coordinates
 (docs/scene-format.md) and refuses bad parameters with a ValueError naming the parameter first
@@ -30,9 +30,11 @@ from runtime.settings import MAX_AXIS_RATIO
 __all__ = [
     "box_walls",
     "bowl",
+    "compound",
     "d_shape",
     "disc",
     "ellipse",
+    "frame",
     "half_disc",
     "polygon",
     "rounded_rect",
@@ -186,12 +188,23 @@ def wall(start: Sequence[float], end: Sequence[float], *, end_vertices: bool = F
 
 
 def bowl(
-    radius: float, start_angle: float, end_angle: float, *, end_vertices: bool = False
+    radius: float,
+    start_angle: float,
+    end_angle: float,
+    *,
+    end_vertices: bool = False,
+    thickness: float | None = None,
 ) -> Shape:
-    """Fixed concave arc (radius stored negative) centred at the origin covering the angles
-    ``start_angle -> end_angle`` counter-clockwise; bodies rest inside.  A full turn is a
-    closed circular container; otherwise the rim points are vertices only with
-    ``end_vertices``."""
+    """Concave arc (radius stored negative) centred at the origin covering the angles
+    ``start_angle -> end_angle`` counter-clockwise; bodies rest inside.
+
+    Without ``thickness``: one open arc for a fixed body; a full turn is a closed circular
+    container; otherwise the rim points are vertices only with ``end_vertices``.  With
+    ``thickness``: a cup that can move, the ring sector between ``radius`` (the concave inner
+    surface) and ``radius + thickness`` (a convex outer one) with flat rims and four rim
+    corners, or a ring for a full turn.  Its span is at most pi or a full turn: a deeper cup's
+    rims face inwards, over material of the cup itself, which the contact finder's test of a
+    penetrating corner (the distance to each edge's line) cannot tell from outside."""
     r = _number("radius", radius, positive=True, where="bowl: ")
     a0 = _number("start_angle", start_angle, where="bowl: ")
     a1 = _number("end_angle", end_angle, where="bowl: ")
@@ -200,15 +213,113 @@ def bowl(
             f"bowl: end_angle must exceed the start angle {a0!r} by at most 2 pi, got {a1!r}"
         )
     arc = Arc((0.0, 0.0), -r, a0, a1)
+    if thickness is None:
+        if arc.full:
+            return Shape((arc,), (), closed=False)
+        return shape_from_edges([arc], closed=False, end_vertices=end_vertices)
+    t = _number("thickness", thickness, positive=True, where="bowl: ")
+    if end_vertices:
+        raise ValueError(
+            "bowl: end_vertices is for a bowl without thickness (a cup's rim "
+            "corners are always corners)"
+        )
+    outer = Arc((0.0, 0.0), r + t, a0, a1)
     if arc.full:
-        return Shape((arc,), (), closed=False)
-    return shape_from_edges([arc], closed=False, end_vertices=end_vertices)
+        return Shape((outer, arc))
+    if arc.span > math.pi * (1 + 1e-12):
+        raise ValueError(
+            f"bowl: end_angle - start_angle must be at most pi (or a full turn) for a bowl "
+            f"with thickness, got {arc.span!r}: a deeper cup's rims face over its own material"
+        )
+    rim_end, rim_start = Segment(outer.last, arc.first), Segment(arc.last, outer.first)
+    return shape_from_edges([outer, rim_end, arc, rim_start])
 
 
-def box_walls(width: float, height: float, *, end_vertices: bool = False) -> Shape:
-    """Fixed open-top container: floor on y = 0 from x = -width/2 to width/2 and two side
-    walls up to y = height, facing inwards (three segments, an open chain)."""
+def box_walls(
+    width: float, height: float, *, end_vertices: bool = False, thickness: float | None = None
+) -> Shape:
+    """Open-top container: floor on y = 0 from x = -width/2 to width/2 and two side walls up to
+    y = height, facing inwards.  Without ``thickness``: three segments, an open chain for a
+    fixed body.  With ``thickness``: three bars of that thickness outside those faces (the
+    floor bar under the side bars), a compound that can move."""
     w = _number("width", width, positive=True, where="box_walls: ")
     h = _number("height", height, positive=True, where="box_walls: ")
-    pts = [(-w / 2, h), (-w / 2, 0.0), (w / 2, 0.0), (w / 2, h)]
-    return segment_chain(pts, end_vertices=end_vertices)
+    if thickness is None:
+        pts = [(-w / 2, h), (-w / 2, 0.0), (w / 2, 0.0), (w / 2, h)]
+        return segment_chain(pts, end_vertices=end_vertices)
+    t = _number("thickness", thickness, positive=True, where="box_walls: ")
+    if end_vertices:
+        raise ValueError(
+            "box_walls: end_vertices is for walls without thickness (the bars' "
+            "corners are always corners)"
+        )
+    x, y = w / 2, h
+    return compound(
+        [_box(-x - t, -t, x + t, 0.0), _box(-x - t, 0.0, -x, y), _box(x, 0.0, x + t, y)]
+    )
+
+
+def frame(width: float, height: float, thickness: float) -> Shape:
+    """Hollow rectangle: an inner opening ``width`` x ``height`` centred at the origin inside
+    bars of ``thickness`` (a compound of four bars: bottom and top the full outer width)."""
+    w = _number("width", width, positive=True, where="frame: ")
+    h = _number("height", height, positive=True, where="frame: ")
+    t = _number("thickness", thickness, positive=True, where="frame: ")
+    x, y = w / 2, h / 2
+    return compound(
+        [
+            _box(-x - t, -y - t, x + t, -y),
+            _box(x, -y, x + t, y),
+            _box(-x - t, y, x + t, y + t),
+            _box(-x - t, -y, -x, y),
+        ]
+    )
+
+
+def _box(x0: float, y0: float, x1: float, y1: float) -> Shape:
+    return polygon([(x0, y0), (x1, y0), (x1, y1), (x0, y1)])
+
+
+def compound(parts: Sequence[Shape]) -> Shape:
+    """One rigid body of several closed convex parts, all in the same (the body's own)
+    coordinates.  Parts may touch but not overlap, so the mass properties are exactly the
+    union's (the sum of the parts'); they need not touch (pieces held by massless links).
+    A part's corner that lies on another part's boundary is hidden (a flat or reflex point of
+    the union: runtime/collide/features.py)."""
+    from runtime.model.regions import is_convex, overlap_depth  # regions imports this module
+
+    try:
+        parts = tuple(parts)
+    except TypeError:
+        raise ValueError(f"compound: parts must be a sequence of shapes, got {parts!r}") from None
+    if not parts:
+        raise ValueError("compound: parts needs at least 1 part, got 0")
+    for k, p in enumerate(parts):
+        if not isinstance(p, Shape):
+            raise ValueError(f"compound: parts[{k}] must be a Shape, got {type(p).__name__}")
+        if p.parts:
+            raise ValueError(f"compound: parts[{k}] is itself a compound; list its parts instead")
+        if not p.closed:
+            raise ValueError(f"compound: parts[{k}] is an open chain without area; parts need area")
+        if not is_convex(p):
+            raise ValueError(f"compound: parts[{k}] is not convex; split it into convex parts")
+    scale = max(p.bounding_radius for p in parts)
+    for i in range(len(parts)):
+        for j in range(i + 1, len(parts)):
+            a, b = parts[i], parts[j]
+            reach = _reach(a) + _reach(b) - math.dist(a.centroid, b.centroid)
+            depth = overlap_depth(a, b) if reach > 0 else reach
+            if depth > _JOIN * scale:
+                raise ValueError(
+                    f"compound: parts[{i}] and parts[{j}] overlap by {depth:.6g} m; parts may "
+                    "touch but not overlap (the overlap's mass would count twice)"
+                )
+    edges = tuple(e for p in parts for e in p.edges)
+    vertices = tuple(v for p in parts for v in p.vertices)
+    return Shape(edges, vertices, True, parts)
+
+
+def _reach(part: Shape) -> float:
+    """Radius of a circle about the part's centroid that holds it."""
+    cx, cy = part.centroid
+    return part.translated(-cx, -cy).bounding_radius

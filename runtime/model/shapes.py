@@ -269,11 +269,18 @@ class Shape:
     the end of a convex arc where it runs smoothly into a straight side acts as a vertex
     against straight edges: runtime/collide/features.py).  Mass properties (per unit density) are
     those of the region a closed boundary encloses; an open chain has area, centroid and
-    second moment zero.  ``_cache`` holds derived tables (the narrow phase's features)."""
+    second moment zero.  A closed boundary may be several loops (a ring: two full arcs).
+
+    ``parts``: a compound body (runtime.model.shape_library.compound): closed convex parts
+    that do not overlap; ``edges`` and ``vertices`` are then the parts' in order, so a
+    feature index names one part's feature, and the mass properties are the union's: the
+    sums of the parts' (parallel-axis theorem for the moment).  ``_cache`` holds derived tables (the narrow phase's
+    features)."""
 
     edges: tuple[Edge, ...]
     vertices: tuple[Point, ...] = ()
     closed: bool = True
+    parts: tuple[Shape, ...] = ()
     area: float = field(init=False)
     centroid: Point = field(init=False)
     second_moment: float = field(init=False)
@@ -287,8 +294,24 @@ class Shape:
         object.__setattr__(self, "edges", edges)
         verts = tuple(_point(f"vertices[{i}]", v, "Shape: ") for i, v in enumerate(self.vertices))
         object.__setattr__(self, "vertices", verts)
+        parts = tuple(self.parts)
+        if parts:
+            if not all(isinstance(p, Shape) and p.closed and not p.parts for p in parts):
+                raise ValueError("Shape: parts must be closed shapes without parts of their own")
+            if not (
+                self.closed
+                and edges == tuple(e for p in parts for e in p.edges)
+                and verts == tuple(v for p in parts for v in p.vertices)
+            ):
+                raise ValueError("Shape: a compound's edges and vertices are its parts', in order")
+            object.__setattr__(self, "parts", parts)
         area, cx, cy, jc = 0.0, 0.0, 0.0, 0.0
-        if self.closed:
+        if parts:  # the parts' own (well conditioned for thin parts far from edges[0])
+            area = math.fsum(p.area for p in parts)
+            cx = math.fsum(p.area * p.centroid[0] for p in parts) / area
+            cy = math.fsum(p.area * p.centroid[1] for p in parts) / area
+            jc = math.fsum(p.second_moment_about((cx, cy)) for p in parts)
+        elif self.closed:
             ox, oy = edges[0].first
             terms = [_edge_terms(e, ox, oy) for e in edges]
             area = math.fsum(t[0] for t in terms)
@@ -306,16 +329,23 @@ class Shape:
     def translated(self, dx: float, dy: float) -> Shape:
         edges = tuple(e.translated(dx, dy) for e in self.edges)
         verts = tuple((x + dx, y + dy) for x, y in self.vertices)
-        return Shape(edges, verts, self.closed)
+        parts = tuple(p.translated(dx, dy) for p in self.parts)
+        return Shape(edges, verts, self.closed, parts)
 
-    def centred(self) -> tuple[Shape, Point]:
-        """``(shape, offset)``: the shape moved so its centroid is the origin, and ``offset``,
-        the old coordinates of the new origin (the centroid).  An open chain is returned
-        unchanged with offset ``(0, 0)``."""
+    def centred(self, about: Point | None = None) -> tuple[Shape, Point]:
+        """``(shape, offset)``: the shape moved so the point ``about`` (default: its centroid)
+        is the origin, and ``offset``, the old coordinates of the new origin.  An open chain
+        is returned unchanged with offset ``(0, 0)``."""
         if not self.closed:
             return self, (0.0, 0.0)
-        cx, cy = self.centroid
+        cx, cy = self.centroid if about is None else _point("center_of_mass", about)
         return self.translated(-cx, -cy), (cx, cy)
+
+    def second_moment_about(self, point: Point) -> float:
+        """Polar second moment (per unit density) about ``point``: the parallel-axis theorem,
+        ``J_c + A |point - c|^2``."""
+        dx, dy = point[0] - self.centroid[0], point[1] - self.centroid[1]
+        return self.second_moment + self.area * (dx * dx + dy * dy)
 
 
 def _farthest(edge: Edge) -> float:
@@ -371,8 +401,8 @@ def shape_from_edges(
 # The named shapes (disc, polygon, wall, ...) live in runtime/model/shape_library.py; they are
 # reachable here too (``shapes.disc(0.1)``), loaded on first use to avoid an import cycle.
 _LIBRARY = (
-    "box_walls", "bowl", "d_shape", "disc", "ellipse", "half_disc", "polygon", "rounded_rect",
-    "segment_chain", "wall",
+    "box_walls", "bowl", "compound", "d_shape", "disc", "ellipse", "frame", "half_disc",
+    "polygon", "rounded_rect", "segment_chain", "wall",
 )  # fmt: skip
 
 

@@ -315,8 +315,37 @@ SCENE_CASES: list[Case] = [
     Case("out of range", "an angle beyond any precision", "angle = 1e15", scene_text(angle="1e15"),
          ("field 'angle'", "must be below 5.63e+14 rad in magnitude, got 1e+15: doubles there are "
           "0.125 rad apart")),
+    # compound bodies, cups, centre of mass
+    Case("compound", "overlapping parts",
+         'parts = [{ type = "disc", radius = 0.1 }, { type = "polygon", ... }]',
+         scene_text(shape='{ type = "compound", parts = [{ type = "disc", radius = 0.1 }, '
+                          '{ type = "polygon", points = [[0.05, -0.05], [0.3, -0.05], '
+                          '[0.3, 0.05], [0.05, 0.05]] }] }'),
+         ("field 'shape.parts'", "parts[0] and parts[1] overlap by 0.05 m; parts may touch but "
+          "not overlap")),
+    Case("compound", "a part that is not closed and convex", 'parts = [{ type = "wall", ... }]',
+         scene_text(shape='{ type = "compound", parts = [{ type = "wall", start = [0, 0], '
+                          'end = [1, 0] }] }'),
+         ("field 'shape.parts[0].type'", "a part must be a closed convex shape (disc, polygon")),
+    Case("compound", "no parts", "parts = []",
+         scene_text(shape='{ type = "compound", parts = [] }'),
+         ("field 'shape.parts'", "expected a list of shape tables")),
+    Case("compound", "a typo inside a part", 'parts = [{ type = "disc", radus = 0.1 }]',
+         scene_text(shape='{ type = "compound", parts = [{ type = "disc", radus = 0.1 }] }'),
+         ("field 'shape.parts[0].radus'", "unknown key; did you mean 'radius'?")),
+    Case("compound", "a cup deeper than half a turn", "thickness = 0.1, end_angle - start_angle > pi",
+         scene_text(shape='{ type = "bowl", radius = 1.0, start_angle = -3.5, end_angle = 0.2, '
+                          'thickness = 0.1 }'),
+         ("field 'shape.end_angle'", "must be at most pi (or a full turn) for a bowl with "
+          "thickness")),
+    Case("compound", "centre of mass outside the body", "center_of_mass = [1.0, 0.0]",
+         scene_text(center_of_mass="[1.0, 0.0]"),
+         ("field 'center_of_mass'", "(1, 0) is 0.9 m outside the shape's convex hull")),
+    Case("compound", "centre of mass of a fixed body", "fixed = true, center_of_mass = [0, 0]",
+         scene_text(drop=("density",), fixed="true", center_of_mass="[0.0, 0.0]"),
+         ("field 'center_of_mass'", "a fixed body has infinite mass; remove this field")),
     # moving or fixed
-    Case("moving/fixed", "concave edge (bowl) on a moving body",
+    Case("moving/fixed", "bowl without thickness on a moving body",
          'shape = { type = "bowl", ... }, not fixed',
          scene_text(shape='{ type = "bowl", radius = 1.0, start_angle = -2.5, '
                           'end_angle = -0.6 }')),

@@ -468,11 +468,22 @@ def test_narrow_phase_only_sees_broad_phase_pairs():
     poses = np.array([[0, 0, 0], [0, 0.5, 0], [3.0, 0.5, 0.3], [0, 7.0, 0], [0, 20.0, 0]])
     fixed = np.array([True, False, False, False, True])
     finder = ContactFinder(bodies, fixed)
-    rows_, start, body = finder.tables
+    rows_, start, body, owner = finder.tables[:4]
     cand, inputs = np.zeros((1000, finder._candidates.shape[1])), finder._kernel_inputs
     everyone, no_groups = np.ones(5, dtype=bool), np.zeros(0, dtype=np.int64)
     count = find_candidates(
-        poses, 1e-6, np.zeros(5), everyone, no_groups, rows_, start, body, cand, inputs
+        poses,
+        1e-6,
+        np.zeros(5),
+        everyone,
+        no_groups,
+        rows_,
+        start,
+        body,
+        owner,
+        False,
+        cand,
+        inputs,
     )
     seen = {tuple(sorted(p)) for p in cand[:count, [BODY1, BODY2]].astype(int).tolist()}
     reach = body[:, 2] + 0.5e-6

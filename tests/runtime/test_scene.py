@@ -332,7 +332,7 @@ BAD_BODIES = {
     ),
     "bowl on a moving body": (
         disc_toml('type = "bowl", radius = 1.0, start_angle = -2.5, end_angle = -0.6'),
-        ["body 'disc' (#2)", "field 'shape.type'", "concave", "not supported", "fixed"],
+        ["body 'disc' (#2)", "field 'shape.type'", "no area", "'thickness'", "fixed = true"],
     ),
     "wall on a moving body": (
         disc_toml('type = "wall", start = [0, 0], end = [1, 0]'),

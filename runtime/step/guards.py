@@ -27,6 +27,7 @@ import numpy as np
 from runtime import settings
 from runtime.collide.broadphase import sweep
 from runtime.compiled import njit
+from runtime.model.regions import winding
 from runtime.model.shapes import TAU, Arc, Segment
 
 
@@ -212,8 +213,12 @@ def _crossing(p0, p1, segments, arcs):
 def inner_radius(shape) -> float:
     """Distance from the body's origin (its centre of mass) to the nearest point of its
     boundary: the radius of the largest circle about the centre of mass inside a closed body
-    (0 for an open chain, which encloses nothing)."""
+    (0 for an open chain, which encloses nothing, and for a body whose centre of mass lies
+    outside its material: a cup's or a frame's, in its hollow)."""
     if not shape.closed:
+        return 0.0
+    origin = np.zeros((1, 2))
+    if not any(winding(part, origin)[0] != 0 for part in shape.parts or (shape,)):
         return 0.0
     best = np.inf
     for edge in shape.edges:

@@ -5,11 +5,9 @@ References: a pair at rest relative to each other moving as one (the contact for
 weights they carry, the motion uniform); conservation of linear momentum where no horizontal
 force acts from outside, of angular momentum and of energy in elastic impacts without gravity.
 
-The runs pass ``Guards(penetration=None)``: the step's guard against bodies passing through
-each other (runtime.step.guards.passed_through) takes a circle of radius
-``inner_radius(shape)`` about every closed body's centre of mass for material, but a cup's or
-a frame's centre of mass lies in its hollow, where the bodies it carries are (the request to
-the step's owner: treat a body whose centre of mass is outside its material as hollow).
+The runs keep the default guards: the guard against bodies passing through each other
+(runtime.step.guards.passed_through) treats a body whose centre of mass lies outside its
+material (a cup's, a frame's: in the hollow, where the bodies it carries are) as hollow.
 """
 
 from __future__ import annotations
@@ -24,7 +22,6 @@ import runtime
 
 G = 9.81
 R, T, R_DISC = 0.5, 0.05, 0.1
-NO_PASS_GUARD = runtime.Guards(penetration=None)
 
 
 def cup_scene(angle: float, velocity: float) -> runtime.Scene:
@@ -51,7 +48,7 @@ def test_disc_at_the_bottom_of_a_cup_sliding_sideways_moves_with_it():
     1e-9 relative, and both bodies at x0 + v t to 1e-12 m."""
     v = 0.3
     scene = cup_scene(0.0, v)
-    run = runtime.simulate(scene, duration=0.2, dt=1e-3, guards=NO_PASS_GUARD)
+    run = runtime.simulate(scene, duration=0.2, dt=1e-3)
     m_cup, m_disc = scene.body("cup").mass, scene.body("disc").mass
     want = {(1, 0): (m_cup + m_disc) * G, (2, 1): m_disc * G}
     for contacts, forces in zip(run.contacts, run.contact_forces, strict=True):
@@ -74,7 +71,7 @@ def test_disc_rolling_in_a_cup_on_a_frictionless_floor_keeps_the_horizontal_mome
     momentum stays (to 1e-14 relative); no impact occurs (the disc stays on the arc, the cup
     on the floor) and energy is kept to the integrator's error (1e-11 relative)."""
     scene = cup_scene(0.6, 0.2)
-    run = runtime.simulate(scene, duration=0.2, dt=1e-3, guards=NO_PASS_GUARD)
+    run = runtime.simulate(scene, duration=0.2, dt=1e-3)
     px = run.momentum[:, 0]
     assert np.abs(px - px[0]).max() <= 1e-14 * abs(px[0])
     assert np.abs(run.energy - run.energy[0]).max() <= 1e-11 * run.energy[0]
@@ -99,7 +96,7 @@ def test_two_balls_in_a_free_hollow_frame_conserve_momentum_and_energy():
     linear momentum, the angular momentum and the energy to 1e-12 (relative), and the balls
     stay inside the opening."""
     scene = runtime.load_scene(Path(__file__).resolve().parent / "data" / "balls_in_frame.toml")
-    run = runtime.simulate(scene, guards=NO_PASS_GUARD)  # 1.5 s in steps of 1 ms
+    run = runtime.simulate(scene)  # 1.5 s in steps of 1 ms
     assert len(run.impact_times) >= 8
     p0 = run.momentum[0]
     assert np.abs(run.momentum - p0).max() <= 1e-12 * np.hypot(*p0)

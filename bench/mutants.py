@@ -117,6 +117,7 @@ MUTANTS: list[Mutant] = [
     Mutant("collide:keeps-deepest", "runtime/collide/selection.py", "if admitted[m] and same and gap[m] > gap[k]:", "if admitted[m] and same and gap[m] < gap[k]:", CONTACTS, "a penetrating corner keeps its deepest way out, not its shallowest"),
     # runtime/step/events.py: the impact time
     Mutant("events:locate-accepts-penetration", EVENTS, "if abs(d) <= gap_tol:", "if d <= gap_tol:", IMPACTS, "locate stops at any penetrating iterate (abs dropped): the impact late"),
+    Mutant("events:locate-one-step-early", EVENTS, "gap_tol=settings.TOUCH_LOCATE * self.touch", "gap_tol=self.touch", IMPACTS, "the impact accepted at the touch gap, not a thousandth of it: about one Newton step early", within="bracket.guess,"),
     Mutant("events:cubic-bisection-side", EVENTS, "if (fm < 0.0) == (f0 < 0.0):", "if (fm < 0.0) != (f0 < 0.0):", IMPACTS, "the compiled cubic roots: bisection keeps the half without the root"),
     Mutant("events:dip-bracket-side", EVENTS, "if v < 0:\n            t0, g0, v0 = t, g, v", "if v > 0:\n            t0, g0, v0 = t, g, v", IMPACTS, "a near graze: the dip search narrows to the wrong side"),
 ]

@@ -124,7 +124,11 @@ MUTANTS: list[Mutant] = [
 # fmt: on
 
 # Why a mutant survives, when it is expected to (printed with it and in bench/README.md).
-SURVIVOR_NOTES: dict[str, str] = {}
+SURVIVOR_NOTES: dict[str, str] = {
+    "events:dip-bracket-side": "not explained yet, likely a missing test: no scene needs a second"
+    " level of find_dip's narrowing (a near graze whose real d at the cubic's minimum is still"
+    " positive and approaching); a test should check a shallow dip against its exact overlap time",
+}
 
 # What the list leaves out on purpose, and what earlier runs found (printed in bench/README.md).
 NOTES = (
@@ -138,10 +142,11 @@ NOTES = (
     " equivalent mutants, and mutants that crash regenerate-equations, which any run shows."
     " The solver, impulse, contact-finding and impact-time mutants (lcp:, assembly:, impulses:,"
     " collide:, events:) were first run group by group with --only (2026-12-01, load 4-6 on"
-    " 2 cores, 1.5-15 min per mutant): all killed except two. `events:locate-one-step-early`"
+    " 2 cores, 1.5-15 min per mutant): all killed except three (`events:dip-bracket-side`:"
+    " see the survivors). `events:locate-one-step-early`"
     " cannot fail the spinning oval at 1 ms steps (the cubic's first guess is already within"
     " 1e-14 s of the root), so that test now also runs with 0.05 s steps and checks the time"
-    " to 1e-12 s (checked by hand: the mutant is 4e-11 s early; not yet by a tool run); and"
+    " to 1e-12 s (the mutant is 4e-11 s early; rerun: killed by that case); and"
     " `lcp:guess-single-row-pulls`, which timed out (900 s) under that load: the disc and the"
     " plank leaving the cylinder (tests/runtime/test_physics.py) pass with it, so it is likely"
     " a survivor, not yet explained (a lifting contact may leave the guess before the forces)."

@@ -19,7 +19,7 @@ from lcp_oracle import Contact, G, contact_matrix, gravity_b, row_violation
 from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import lcp, lcp_dense, lcp_envelope, lcp_factor, lcp_sparse
-from runtime.solve.lcp_baraff import DRIVES, PIVOTS
+from runtime.solve.lcp_baraff import DRIVES, PIVOTS, is_solution
 from runtime.solve.lcp_dense import PATH, PIVOTED, PIVOTED_FRESH, POLISHED, SINGLE, WARM_HIT
 
 TOL = settings.LCP_TOL
@@ -134,6 +134,27 @@ def test_single_immovable_row_that_needs_a_force_is_infeasible() -> None:
 
 
 # --- the fallback chain -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("forces", "valid"),
+    [
+        ((1.0, 1.0), True),  # the solution: a = A f + b = 0 on both pushed rows
+        ((0.9, 1.0), False),  # pushed rows left approaching: a = (-0.2, -0.1)
+        ((1.1, 1.0), False),  # pushed rows driven apart: a = (0.2, 0.1)
+        ((0.0, 1.5), False),  # row 0 takes no force and penetrates: a_0 = -1.5
+    ],
+)
+def test_every_path_s_acceptance_check_is_the_lcp_conditions(forces, valid) -> None:
+    """lcp_baraff.is_solution, the check each path's forces must pass (warm hit, pivoting,
+    polish, least norm), against the LCP's definition on A = [[2, 1], [1, 2]], b = (-3, -3),
+    whose one solution is f = (1, 1): a pushed row (f > 0) needs a = 0 -- approaching (a < 0)
+    as much as separating -- and an unpushed one a >= 0."""
+    A, b = np.array([[2.0, 1.0], [1.0, 2.0]]), np.array([-3.0, -3.0])
+    f = np.array(forces)
+    a, tol_a = np.empty(2), np.empty(2)
+    assert is_solution(A, b, np.zeros(2, bool), f, TOL, a, tol_a) == valid
+    np.testing.assert_allclose(a, A @ np.array(forces) + b, atol=1e-15)
 
 
 @pytest.mark.parametrize(

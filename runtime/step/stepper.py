@@ -309,6 +309,10 @@ class Stepper:
             start_v = frame.velocities
             trial = self.trajectory(resting.problem, q, start_v, remaining, resting.accelerations)
             end = trial.at(remaining)
+            if reach is not None:  # the impacts of this frame may have sped the island up
+                moved = sweep.displacement(reach[0], end[0], self.radii)
+                if np.any((moved > reach[1])[active]):
+                    raise _Merge
             labels = self._islands(frame, active)
             if sweep.outran(q, end[0], self.radii, frame.margin):
                 frame, labels = self._widen(q, end[0], frame, limits, active)

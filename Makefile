@@ -70,6 +70,7 @@ bench: setup
 	$(PY) -m bench.collide
 	$(PY) -m bench.lcp
 	$(PY) -m bench.steps
+	$(PY) -m bench.profile_step
 	$(PY) -m bench.targets
 	$(PY) -m bench.ensemble
 

@@ -82,9 +82,11 @@ def first_touch(
 def unwatched_meetings(
     search, frame, q0: np.ndarray, q1: np.ndarray, h: float, island_of_body, trajectory
 ) -> dict[int, float]:
-    """{island: first touch} of the pairs with a fast body that no watched contact of the frame
-    joins (corner against corner at the start, or a body swinging its far end round onto the
-    body it rests on); a pair of two islands that meet raises :class:`IslandsMeet`.
+    """{island: first touch} of the pairs with a fast body at a contact the frame does not
+    watch: pairs no watched contact joins (corner against corner at the start, or a body
+    swinging its far end round onto the body it rests on), and other features of joined pairs
+    (a spinning polygon between two discs brings another corner round onto the disc one corner
+    watches); a pair of two islands that meet raises :class:`IslandsMeet`.
     ``trajectory(island)``: the island's trajectory; ``q0``, ``q1``: the trial's end poses."""
     radii = search.radii
     fast = sweep.displacement(q0, q1, radii) > settings.FAST_PAIR * search.half_width
@@ -96,13 +98,10 @@ def unwatched_meetings(
     keep = usable[first] & usable[second] & (fast[first] | fast[second])
     first, second = first[keep], second[keep]
     counts = samples(search, first, second, q0, q1)
-    c = frame.contacts.take(frame.monitored)  # their pairs are sampled as watched ones
-    low, high = np.minimum(c.body1, c.body2).tolist(), np.maximum(c.body1, c.body2).tolist()
-    joined = set(zip(low, high, strict=True))
     known = set(frame.keys)
     out: dict[int, float] = {}
     for i, j, count in zip(first.tolist(), second.tolist(), counts.tolist(), strict=True):
-        if (i, j) in joined or count == 0:
+        if count == 0:
             continue
         gi, gj = int(island_of_body[i]), int(island_of_body[j])
         g = gi if gi >= 0 else gj

@@ -41,7 +41,7 @@ STAGES = [
     ("frame: contacts, classify, impacts, settle, forces", ("stepper.py:settled_frame",)),
     ("&nbsp;&nbsp;of which the compiled frame", ("settle_frame",)),
     ("&nbsp;&nbsp;of which the general path's settle rounds", ("resting.py:settle",)),
-    ("integrate (trial step and trial times)", ("stepper.py:step",)),
+    ("integrate (trial step and trial times)", ("integrators.py:_integrate",)),
     ("events: the first impact of each island", ("events.py:first",)),
 ]
 
@@ -64,7 +64,7 @@ def _stage_times(stats: pstats.Stats, steps: int) -> dict[str, float]:
         total = 0.0
         for (path, _line, func), (_cc, _nc, _tt, ct, _callers) in stats.stats.items():
             where = f"{Path(path).name}:{func}"
-            if any(where.endswith(n) or func == n for n in names):
+            if any(where.endswith(n) or (":" not in n and n in func) for n in names):
                 total += ct
         out[label] = total / steps
     return out

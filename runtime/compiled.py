@@ -71,6 +71,15 @@ import scipy.linalg  # noqa: E402, F401  (loads scipy's BLAS, which compiled cod
 threadpool_limits(1, user_api="blas")
 
 
+def cache_is_cold() -> bool:
+    """True when no compiled code is cached yet for this source (the first run after an install or
+    a change compiles the engine: a minute or more of CPU), so a front end can say why it waits."""
+    try:
+        return not any(CACHE_FOLDER.rglob("*.nbi"))
+    except OSError:
+        return True
+
+
 def njit(*args, **kwargs):
     """``numba.njit`` with ``cache=True`` (on disk, in :data:`CACHE_FOLDER`) by default."""
     kwargs.setdefault("cache", True)

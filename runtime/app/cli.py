@@ -215,6 +215,11 @@ def _simulate(scene: Any, duration: float, dt: float, method: str, args: argpars
 
     bar = None
     if not args.quiet:
+        from runtime.compiled import CACHE_FOLDER, cache_is_cold
+
+        if cache_is_cold():
+            _say(sys.stderr, prog, "first run of this version: compiling the engine (a minute or "
+                 f"more; later runs load it from {CACHE_FOLDER})")  # fmt: skip
         tty = sys.stderr.isatty()
         bar = ProgressBar(sys.stderr) if tty else ProgressLines(sys.stderr, duration, prog=prog)
     start = time.perf_counter()

@@ -375,7 +375,10 @@ class EventSearch:
                 best[g] = t
             else:
                 unconfirmed.setdefault(g, set()).add(_pair(contacts, k))
-        closing = (g1 < g0) | sampled  # may meet at another feature on the way (or turn to it)
+        # may meet at another feature on the way (or turn to it); approaching at the start
+        # counts too: two corners that slide past each other are nearer within the step than at
+        # either end, and a corner's gap (a distance) cannot reach 0 where it crosses an edge
+        closing = (g1 < g0) | (v0 < 0) | sampled
         for k in np.flatnonzero(closing):
             i, j = int(contacts.body1[k]), int(contacts.body2[k])
             if self.switches[i] or self.switches[j]:

@@ -204,14 +204,13 @@ def test_an_impact_that_speeds_an_island_up_meets_the_next_body_within_the_step(
     assert run.max_penetration < 1e-12
 
 
-@pytest.mark.xfail(strict=True, reason="open defect (issue #13): see the docstring")
 def test_a_corner_sliding_past_a_corner_onto_its_edge():
     """Two polygons at 0.84 m/s, no rotation (found by the fuzzing): at the step's start the
     nearest features are a corner of each (a vertex_circle contact with a zero radius, gap
-    2.8 mm); within the step the first corner slides past the other onto its adjacent edge,
-    whose vertex-edge contact was not in the swept set, so no impact is located and they
-    overlap by 4.4 mm. Strict: when the swept search takes the corner's edges too, this passes
-    and the marks here and on test_fuzz.py's moving-pairs test must go."""
+    2.8 mm); within the step the first corner slides past the other onto its adjacent edge.
+    The corners' distance is smaller inside the step than at either end, so the pair counts as
+    closing while its contact approaches at the start, and the edge's first touch is located
+    (before: no impact, a 4.4 mm overlap)."""
     data = json.loads((Path(__file__).parent / "data" / "corner_slides_onto_edge.json").read_text())
     run = runtime.simulate(runtime.scene_from_dict(data, source="found"))
     assert run.max_penetration < 1e-9

@@ -40,6 +40,7 @@ CE = "generated/circle_edge.py"
 VE = "generated/vertex_edge.py"
 SHAPE = "runtime/model/shapes.py"
 STEP = "runtime/step/integrators.py"
+COMPILED_STEP = "runtime/step/compiled_stages.py"
 LCP = "tests/runtime/test_lcp_paths.py tests/runtime/test_lcp.py tests/runtime/test_lcp_property.py"
 DENSE = "runtime/solve/lcp_dense.py"
 BARAFF = "runtime/solve/lcp_baraff.py"
@@ -92,11 +93,14 @@ MUTANTS: list[Mutant] = [
     Mutant("shapes:centroid-y", SHAPE, "cx, cy = ox + mx, oy + my", "cx, cy = ox + mx, oy - my", SHAPES, "the centroid's y from the wrong side"),
     Mutant("scene:inertia-no-area", "runtime/model/scene.py", "float(self.shape.second_moment) / float(self.shape.area)", "float(self.shape.second_moment)", SHAPES, "inertia = m J (J per unit density, not per unit mass)"),
     # runtime/step/integrators.py
-    Mutant("integrators:rk4-k3", STEP, "k3 = rhs(y + 0.5 * dt * k2)", "k3 = rhs(y + 0.5 * dt * k1)", STEPPING, "RK4's third stage from k1 (still consistent, lower order)"),
-    Mutant("integrators:rk4-k4", STEP, "k4 = rhs(y + dt * k3)", "k4 = rhs(y + dt * k2)", STEPPING, "RK4's last stage from k2"),
-    Mutant("integrators:rk4-weights", STEP, "(k1 + 2.0 * k2 + 2.0 * k3 + k4)", "(k1 + 3.0 * k2 + k3 + k4)", STEPPING, "RK4's weights (sum still 6)"),
-    Mutant("integrators:midpoint-full-step", STEP, "return y + dt * rhs(y + 0.5 * dt * k1)", "return y + dt * rhs(y + dt * k1)", STEPPING, "midpoint evaluated at the end of the step"),
-    Mutant("integrators:euler-half", STEP, "return y + dt * (rhs(y) if k1 is None else k1)", "return y + 0.5 * dt * (rhs(y) if k1 is None else k1)", STEPPING, "Euler with half the step"),
+    Mutant("integrators:rk4-a3", STEP, "a3 = rhs(q + half * v2, v3)", "a3 = rhs(q + half * v, v3)", STEPPING, "RK4's third stage at the first stage's positions (still consistent, lower order)"),
+    Mutant("integrators:rk4-a4", STEP, "a4 = rhs(q + h * v3, v4)", "a4 = rhs(q + h * v2, v4)", STEPPING, "RK4's last stage from the second stage's velocity"),
+    Mutant("integrators:rk4-weights", STEP, "v + sixth * (a1 + 2.0 * (a2 + a3) + a4)", "v + sixth * (a1 + 3.0 * a2 + a3 + a4)", STEPPING, "RK4's weights (sum still 6)"),
+    Mutant("integrators:midpoint-full-step", STEP, "qm, vm = q + half * v, v + half * a1", "qm, vm = q + h * v, v + h * a1", STEPPING, "midpoint evaluated at the end of the step"),
+    Mutant("integrators:euler-half", STEP, "return q + h * v, v + h * a1", "return q + h * v, v + 0.5 * h * a1", STEPPING, "Euler's velocity with half the step"),
+    Mutant("compiled:rk4-a3", COMPILED_STEP, "if not accelerations(q0 + half * v2, v3, *args, a3, forces, rates):", "if not accelerations(q0 + half * v0, v3, *args, a3, forces, rates):", STEPPING, "compiled RK4's third stage at the first stage's positions"),
+    Mutant("compiled:rk4-weights", COMPILED_STEP, "v0 + sixth * (a0 + 2.0 * (a2 + a3) + a4)", "v0 + sixth * (a0 + 3.0 * a2 + a3 + a4)", STEPPING, "compiled RK4's weights (sum still 6)"),
+    Mutant("compiled:midpoint-position", COMPILED_STEP, "q_out[:, :] = q0 + h * v2", "q_out[:, :] = q0 + h * v0", STEPPING, "compiled midpoint: positions advanced with the start's velocity"),
     # runtime/solve: the contact-force solver (issue #18: the fast path and the polish step)
     Mutant("lcp:single-row-pulls", DENSE, "if joint[0] or b[0] < 0.0 else 0.0", "if joint[0] or b[0] != 0.0 else 0.0", LCP, "one contact (the fast path): -b/A returned for b > 0, a pulling force"),
     Mutant("lcp:polish-unchecked", DENSE, "if hit or is_solution(S, b, joint, f, tol, a, tol_a):", "if True:", LCP, "the polish (PGS) fallback accepted without its residual check"),
@@ -104,7 +108,8 @@ MUTANTS: list[Mutant] = [
     Mutant("lcp:max-step-sign", BARAFF, "elif state[i] == NOT_CLAMPED and da[i] < -noise_a:", "elif state[i] == NOT_CLAMPED and da[i] > noise_a:", LCP, "maxstep: a free contact limits the step when it separates, not when it closes"),
     Mutant("lcp:clamped-row-one-sided", BARAFF, "if not abs(a[i]) <= tol_a[i]:", "if not a[i] <= tol_a[i]:", LCP, "complementarity: a pushed row accepted with a < 0 (still penetrating)"),
     Mutant("lcp:least-norm-pulls", "runtime/solve/lcp_minnorm.py", "if jR[c] or u > 0.0:\n            fR[c]", "if jR[c] or u != 0.0:\n            fR[c]", LCP, "least norm: a redundant contact's force not clipped at 0"),
-    Mutant("lcp:guess-single-row-pulls", ASSEMBLY, "if f[k] < 0.0:", "if f[k] < -np.inf:", "tests/runtime/test_physics.py tests/runtime/test_collisions.py", "the engine's guessed one-row island keeps a pulling force (a body that should lift off)"),
+    Mutant("lcp:guess-single-row-pulls", ASSEMBLY, "if f[k] < 0.0:", "if f[k] < -np.inf:", "tests/runtime/test_physics.py tests/runtime/test_collisions.py", "the engine's guessed island with one clamped row keeps a pulling force (a body that should lift off)"),
+    Mutant("lcp:guess-one-row-island-pulls", ASSEMBLY, "if f[0] < 0.0:", "if f[0] < -np.inf:", "tests/runtime/test_physics.py tests/runtime/test_collisions.py", "the engine's guessed one-row island keeps a pulling force (a body that should lift off)"),
     Mutant("assembly:reaction-sign", ASSEMBLY, "acc[j, c] += inv_mass[j, c] * jac[k, 3 + c] * f", "acc[j, c] -= inv_mass[j, c] * jac[k, 3 + c] * f", IMPACTS + " tests/runtime/test_physics.py", "body 2's reaction (force and impulse) with the wrong sign"),
     # runtime/solve/impulses.py
     Mutant("impulses:restitution-factor", IMPULSES, "(1.0 + restitution[wave]) * rate[wave]", "restitution[wave] * rate[wave]", IMPACTS, "Newton's law with e instead of (1 + e)"),

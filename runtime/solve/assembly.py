@@ -105,6 +105,8 @@ def solve_with_guess(A, b, K, guess, tol, f):
     """Forces f[:K] >= 0 with a = A f + b = 0 on the guessed clamped set and >= 0 elsewhere, each
     to tol relative to the row's scale |b_k| + sum_j |A_kj| f_j; False if the guess does not
     give such a solution (then the pivoting solver must find the set)."""
+    if K == 1:  # one contact (most islands of a scattered scene): no index array to allocate
+        return _solve_one(A[0, 0], b[0], guess[0], tol, f)
     count = 0
     for k in range(K):
         if guess[k]:
@@ -154,6 +156,23 @@ def solve_with_guess(A, b, K, guess, tol, f):
         elif a < -tol * scale:
             return False
     return True
+
+
+@njit
+def _solve_one(A, b, held, tol, f):
+    """solve_with_guess for one row, the same arithmetic in the same order."""
+    f[0] = 0.0
+    if held:
+        if not A > 0.0:
+            return False
+        f[0] = -b / A
+        if f[0] < 0.0:
+            return False
+    a = b + A * f[0]
+    scale = abs(b) + abs(A) * f[0]
+    if held:
+        return not abs(a) > tol * scale
+    return not a < -tol * scale
 
 
 @njit

@@ -22,6 +22,7 @@ import pytest
 import strategies
 
 import runtime
+from runtime.step import events
 from runtime.step.events import EventSearch
 
 R = 0.1  # disc radius, m
@@ -214,3 +215,28 @@ def test_a_corner_sliding_past_a_corner_onto_its_edge():
     data = json.loads((Path(__file__).parent / "data" / "corner_slides_onto_edge.json").read_text())
     run = runtime.simulate(runtime.scene_from_dict(data, source="found"))
     assert run.max_penetration < 1e-9
+
+
+@pytest.mark.parametrize("overlap", [1e-3, 1e-5, 1e-7])
+@pytest.mark.parametrize("x0, x1", [(-0.1, 0.3), (-0.05, 0.4), (-0.3, 0.05), (-0.2, 0.6)])
+def test_a_shallow_dip_is_found_at_its_exact_entry_time(overlap, x0, x1):
+    """Two discs (radii summing to R = 1 m) passing with a miss distance R - overlap, from
+    x0 to x1 along their relative line within one interval, asymmetric so that the Hermite
+    cubic's minimum is not the real one: find_dip must narrow toward the real minimum (the side
+    where the real d' changes sign, over several levels for the shallow dips) and bracket the
+    exact entry time x = -sqrt(R^2 - b^2), which locate then finds to 1e-8 s."""
+    b, speed, span = 1.0 - overlap, 1.0, x1 - x0
+
+    def gap(t: float) -> tuple[float, float]:
+        x = x0 + speed * t
+        r = math.hypot(x, b)
+        return r - 1.0, x * speed / r
+
+    enter = (-math.sqrt(1.0 - b * b) - x0) / speed
+    (g0, v0), (g1, v1) = gap(0.0), gap(span)
+    assert g0 > 0 and g1 > 0 and v0 < 0 < v1  # open at both ends: only the dip search sees it
+    bracket = events.find_dip(gap, 0, 0.0, g0, v0, span, g1, v1)
+    assert bracket is not None
+    assert bracket.lo <= enter <= bracket.hi and gap(bracket.hi)[0] <= 0
+    t, _ = events.locate(gap, bracket.lo, bracket.hi, bracket.guess, gap_tol=1e-13, time_tol=1e-15)
+    assert abs(t - enter) <= 1e-8

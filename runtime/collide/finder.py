@@ -28,6 +28,7 @@ import numpy as np
 from generated import CASE_ID
 from runtime.collide import ovals
 from runtime.collide.candidates import COLUMNS
+from runtime.collide.contact_keys import ContactKeys
 from runtime.collide.contact_set import Contacts
 from runtime.collide.features import features, scene_tables
 from runtime.collide.narrowphase import find_candidates
@@ -128,6 +129,7 @@ class ContactFinder:
         self.groups = check_groups(groups, self.n)
         self.cases = frozenset(possible_cases(shapes, flags))
         self.tables = scene_tables(shapes, flags)
+        self.keys = ContactKeys.of(shapes)  # contact identity across steps
         self.owner = self.tables.owner
         self.compound = len(self.owner) > self.n  # some body has several units (parts)
         self._unit_groups = self.groups[self.owner] if self.groups.size else self.groups

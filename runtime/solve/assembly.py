@@ -22,10 +22,25 @@ from runtime.solve.lcp_dense import OK, solve_dense
 
 
 @njit
+def _self_product(jac, body, side, inv_mass, fixed, k):
+    """Contact k's row on one body times that body's inverse mass times the row (0 if fixed)."""
+    s = 0.0
+    if not fixed[body]:
+        for c in range(3):
+            s += jac[k, side + c] * inv_mass[body, c] * jac[k, side + c]
+    return s
+
+
+@njit
 def island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A):
     """A[:K, :K] for the contacts start..stop-1 (K = stop - start): for each moving body, the
     products of the rows of the contacts that touch it (O(sum of degree^2), not O(K^2))."""
     K = stop - start
+    if K == 1:  # one contact: no sort (and no arrays to allocate); the same sums
+        A[0, 0] = _self_product(jac, body1[start], 0, inv_mass, fixed, start) + _self_product(
+            jac, body2[start], 3, inv_mass, fixed, start
+        )
+        return
     A[:K, :K] = 0.0
     bodies = np.empty(2 * K, np.int64)
     for a in range(K):

@@ -54,7 +54,7 @@ class ForceProblem:
     offsets: np.ndarray
     guess: np.ndarray
     labels: np.ndarray
-    keys: list[tuple]
+    keys: list  # of the contacts (runtime.collide.contact_keys)
 
     def subset(self, keep: np.ndarray) -> ForceProblem:
         """The problem of the contacts ``keep`` (a bool mask over the problem's rows), whole
@@ -87,13 +87,16 @@ class ContactForces:
         self.free_acceleration = np.zeros((len(self.fixed), 3))
         self.free_acceleration[~self.fixed, :2] = scene.gravity
         self.stabilisation = stabilisation
-        self.memory: dict[tuple, bool] = {}  # contact key -> clamped at its last solve
+        self.memory: dict = {}  # contact key -> clamped at its last solve
 
-    def problem(self, contacts: Contacts, island_of_contact: np.ndarray) -> ForceProblem:
-        """The resting set ``contacts`` (with the island label of each) ordered by island."""
+    def problem(
+        self, contacts: Contacts, island_of_contact: np.ndarray, keys: list
+    ) -> ForceProblem:
+        """The resting set ``contacts`` (with the island label and the key of each:
+        runtime.collide.contact_keys) ordered by island."""
         order, offsets = grouped(island_of_contact)
         ordered = contacts.take(order)
-        keys = list(map(tuple, ordered.keys().tolist()))
+        keys = [keys[k] for k in order.tolist()]
         guess = np.array([self.memory.get(k, False) for k in keys], dtype=bool)
         return ForceProblem(ordered, order, offsets, guess, island_of_contact[order], keys)
 

@@ -129,7 +129,7 @@ class Frame:
     impacts among them have been resolved."""
 
     contacts: Contacts
-    keys: list[tuple]  # identity of each contact (Contacts.keys as tuples)
+    keys: list  # identity of each contact (runtime.collide.contact_keys)
     rows: Rows  # kernel rows with the velocities after the impacts
     modes: np.ndarray  # Mode per contact (plain ints)
     velocities: np.ndarray  # (n, 3) after the impacts
@@ -156,7 +156,7 @@ class Frame:
         return float(np.min(self.rows.gap)) if len(self.rows.gap) else np.inf
 
 
-def member(keys: list[tuple], keyset: set | frozenset) -> np.ndarray:
+def member(keys: list, keyset: set | frozenset) -> np.ndarray:
     """Whether each key is in ``keyset``, as a bool array."""
     if not keyset:
         return np.zeros(len(keys), dtype=bool)
@@ -199,15 +199,13 @@ def make_frame(
     margin: np.ndarray,
     held: set,
     limits: Limits,
-    recent: set | frozenset = frozenset(),
-    keys: list[tuple] | None = None,
+    recent: set | frozenset,
+    keys: list,
 ) -> Frame:
-    """Classify ``contacts`` (``held``: keys of the contacts resting before) and resolve the
-    impacts among the touching ones, island by island. A contact of ``recent`` (resting at the
-    end of the last step) that collides is a resting contact that drifted open, not a
-    collision: plastic."""
-    if keys is None:
-        keys = list(map(tuple, contacts.keys().tolist()))
+    """Classify ``contacts`` (``keys``: their keys, runtime.collide.contact_keys; ``held``:
+    keys of the contacts resting before) and resolve the impacts among the touching ones,
+    island by island. A contact of ``recent`` (resting at the end of the last step) that
+    collides is a resting contact that drifted open, not a collision: plastic."""
     rows = evaluator.rows(contacts, poses, velocities)
     modes = classify(rows.gap, rows.gap_velocity, limits, member(keys, held))
     m = len(contacts)

@@ -30,6 +30,10 @@ class Collision:
         allowed = None if active is None else active | self.fixed
         return self.finder.find(poses, self.tolerance, margin, allowed)
 
+    def key_list(self, contacts: Contacts) -> list:
+        """The identity of each contact across steps (runtime.collide.contact_keys)."""
+        return self.finder.keys.of_contacts(contacts)
+
     def pair(self, i: int, j: int, poses: np.ndarray, tolerance: float) -> Contacts:
         """The contacts between bodies i and j only (scene body indices)."""
         allowed = self._pair

@@ -117,7 +117,8 @@ class Copies:
 
 def snapshot(stepper: Stepper) -> tuple:
     """The stepper's memory between steps (restored by :func:`carry` when a step is redone)."""
-    return stepper.held, stepper.recent, dict(stepper.forces.memory), stepper.evaluations
+    memory = dict(stepper.forces.memory)
+    return stepper.held, stepper.recent, memory, stepper.evaluations, stepper.collision.finder.keys
 
 
 def carry(memory: tuple, old: Layout, new: Layout, stepper: Stepper, own: int) -> None:
@@ -134,13 +135,15 @@ def carry(memory: tuple, old: Layout, new: Layout, stepper: Stepper, own: int) -
     for m in np.flatnonzero(kept).tolist():
         start = shared + own * m
         moved[start : start + own] = shared + own * int(position[m]) + np.arange(own)
-    held, recent, guesses, evaluations = memory
+    held, recent, guesses, evaluations, old_keys = memory
+    new_keys = stepper.collision.finder.keys
 
     def keys(items):
         for key in items:
-            i, j = int(moved[key[0]]), int(moved[key[1]])
+            b1, b2, *features = old_keys.parts(key)
+            i, j = int(moved[b1]), int(moved[b2])
             if i >= 0 and j >= 0:
-                yield key, (i, j, *key[2:])
+                yield key, new_keys.make((i, j, *features))
 
     stepper.held = {new_key for _, new_key in keys(held)}
     stepper.recent = frozenset(new_key for _, new_key in keys(recent))

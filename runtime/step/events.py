@@ -383,7 +383,7 @@ class EventSearch:
             i, j = int(contacts.body1[k]), int(contacts.body2[k])
             if self.switches[i] or self.switches[j]:
                 unconfirmed.setdefault(int(island[k]), set()).add(_pair(contacts, k))
-        keys = set(map(tuple, contacts.keys().tolist()))
+        keys = set(self.collider.key_list(contacts))
         known = set(frame.keys)
         counts = {_pair(contacts, k): int(sampled_counts[k]) for k in np.flatnonzero(sampled)}
         for g, pairs in unconfirmed.items():
@@ -445,7 +445,7 @@ class EventSearch:
         """Whether the pair of contact k touches at ``poses`` at a feature not resting before."""
         i, j = _pair(contacts, k)
         found = self.collider.pair(i, j, poses, self.touch)
-        return any(key not in resting for key in map(tuple, found.keys().tolist()))
+        return any(key not in resting for key in self.collider.key_list(found))
 
     def _new_feature(
         self, pairs: set, watched_keys: set, traj, until: float, known: set, samples: dict
@@ -464,7 +464,7 @@ class EventSearch:
         for i, j in sorted(pairs):
             found = self.collider.pair(i, j, poses, 0.0)
             located, unexplained = False, False
-            for k, key in enumerate(map(tuple, found.keys().tolist())):
+            for k, key in enumerate(self.collider.key_list(found)):
                 if key in watched_keys or found.gap[k] >= -self.touch:
                     continue
                 gap = self._gap_function(found, k, traj)

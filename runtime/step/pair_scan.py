@@ -52,7 +52,7 @@ def first_touch(
 
     def depth(t: float) -> float:
         found = search.collider.pair(i, j, traj.at(t)[0], touch)
-        keys = map(tuple, found.keys().tolist())
+        keys = search.collider.key_list(found)
         gaps = [g for key, g in zip(keys, found.gap.tolist(), strict=True) if key not in known]
         return min(gaps, default=math.inf)
 

@@ -21,6 +21,7 @@ from runtime.step.guards import Guards
 from runtime.step.world import (
     SimulationError,
     World,
+    body_masses,
     kinetic_energy,
     linear_momentum,
     mechanical_energy,
@@ -93,6 +94,7 @@ class _Recorder:
         self.run = Run(scene.name, method, dt, [b.name for b in scene.bodies])
         self.n = len(scene.bodies)
         self.scene = scene
+        self.masses = body_masses(scene)
         self.rows: dict[str, list] = {
             k: [] for k in ("t", "poses", "velocities", "energy", "momentum", "min_gap", "loss")
         }
@@ -105,7 +107,7 @@ class _Recorder:
         r["poses"].append(poses.copy())
         r["velocities"].append(velocities.copy())
         r["energy"].append(energy)
-        r["momentum"].append(linear_momentum(self.scene, velocities))
+        r["momentum"].append(linear_momentum(self.scene, velocities, self.masses))
         r["min_gap"].append(frame.min_gap)
         r["loss"].append(loss)
         self.run.contacts.append(frame.contacts.take(recorded))

@@ -143,7 +143,7 @@ class Stepper:
         if margin is None:
             margin = sweep.margins(v, h, self.radii, self.moving, self.gravity)
         contacts = self.collision.swept(q, margin, active)
-        keys = list(map(tuple, contacts.keys().tolist()))
+        keys = self.collision.key_list(contacts)
         done = self._compiled_frame(contacts, keys, q, v, margin, limits) if self.compiled else None
         if done is None:
             frame = make_frame(self.evaluator, self.bodies, contacts, q, v, margin, self.held,
@@ -207,7 +207,8 @@ class Stepper:
             self.held = resting
             return
         mine = active | self.fixed
-        self.held = {k for k in self.held if not (mine[k[0]] and mine[k[1]])} | resting
+        bodies = self.collision.finder.keys.bodies
+        self.held = {k for k in self.held if not all(mine[b] for b in bodies(k))} | resting
 
     def solve(
         self, q: np.ndarray, frame: Frame, which: np.ndarray | None = None
@@ -225,7 +226,7 @@ class Stepper:
             contacts.body2,
             self.fixed,
         )
-        problem = self.forces.problem(contacts, labels)
+        problem = self.forces.problem(contacts, labels, self.collision.key_list(contacts))
         rows = self.evaluator.rows(problem.contacts, q, v, self.with_gaps)
         solution = self.forces.solve(problem, rows)
         self.forces.remember(problem)
@@ -355,7 +356,7 @@ class Stepper:
         are found again with margins twice the distances moved; the resting set stays."""
         wider = np.maximum(frame.margin, 2.0 * sweep.displacement(q, end_q, self.radii))
         contacts = self.collision.swept(q, wider, active)
-        keys = list(map(tuple, contacts.keys().tolist()))
+        keys = self.collision.key_list(contacts)
         index = {key: k for k, key in enumerate(frame.keys)}
         rows = self.evaluator.rows(contacts, q, frame.velocities)
         modes = np.zeros(len(contacts), dtype=int)

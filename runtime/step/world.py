@@ -47,32 +47,36 @@ class SimulationError(RuntimeError):
         self.state = state
 
 
-def kinetic_energy(scene, velocities: np.ndarray) -> float:
-    """Kinetic energy of the moving bodies."""
-    terms = (
-        0.5 * body.mass * (v[0] ** 2 + v[1] ** 2) + 0.5 * body.inertia * v[2] ** 2
-        for body, v in zip(scene.bodies, velocities, strict=True)
-        if not body.fixed
-    )
-    return float(sum(terms))
+def body_masses(scene) -> tuple[np.ndarray, np.ndarray]:
+    """(mass, moment of inertia) per body, 0 for fixed ones: the weights of the energy and
+    momentum sums, taken once per run (summed per body in Python they cost ~3 us a body and
+    step: 47 ms a step for 10,000 discs)."""
+    moving = [not b.fixed for b in scene.bodies]
+    mass = np.array([b.mass if m else 0.0 for b, m in zip(scene.bodies, moving, strict=True)])
+    inertia = np.array([b.inertia if m else 0.0 for b, m in zip(scene.bodies, moving, strict=True)])
+    return mass.reshape(-1), inertia.reshape(-1)
 
 
-def mechanical_energy(scene, poses: np.ndarray, velocities: np.ndarray) -> float:
+def kinetic_energy(scene, velocities: np.ndarray, masses=None) -> float:
+    """Kinetic energy of the moving bodies (``masses``: body_masses(scene), if at hand)."""
+    mass, inertia = body_masses(scene) if masses is None else masses
+    v = np.asarray(velocities, dtype=float).reshape(-1, 3)
+    return float(np.sum(0.5 * mass * (v[:, 0] ** 2 + v[:, 1] ** 2) + 0.5 * inertia * v[:, 2] ** 2))
+
+
+def mechanical_energy(scene, poses: np.ndarray, velocities: np.ndarray, masses=None) -> float:
     """Kinetic + gravitational potential energy of the moving bodies."""
-    g = np.asarray(scene.gravity)
-    potential = sum(
-        -body.mass * float(g @ q[:2])
-        for body, q in zip(scene.bodies, poses, strict=True)
-        if not body.fixed
-    )
-    return kinetic_energy(scene, velocities) + potential
+    masses = body_masses(scene) if masses is None else masses
+    g = np.asarray(scene.gravity, dtype=float)
+    q = np.asarray(poses, dtype=float).reshape(-1, 3)
+    potential = -float(np.sum(masses[0] * (g[0] * q[:, 0] + g[1] * q[:, 1])))
+    return kinetic_energy(scene, velocities, masses) + potential
 
 
-def linear_momentum(scene, velocities: np.ndarray) -> np.ndarray:
-    return sum(
-        (b.mass * v[:2] for b, v in zip(scene.bodies, velocities, strict=True) if not b.fixed),
-        np.zeros(2),
-    )
+def linear_momentum(scene, velocities: np.ndarray, masses=None) -> np.ndarray:
+    mass = (body_masses(scene) if masses is None else masses)[0]
+    v = np.asarray(velocities, dtype=float).reshape(-1, 3)
+    return mass @ v[:, :2]
 
 
 class World:
@@ -107,13 +111,14 @@ class World:
         self.t = 0.0
         self.steps = 0
         self.poses, self.velocities = scene.poses(), scene.velocities()
+        self._masses = body_masses(scene)
         self.last: StepReport | None = None
         self.impact_times: list[float] = []
         self._at_state = None  # (frame, resting solution) at the current state, when asked for
         self._last_dt: float | None = None
         with np.errstate(all="ignore"):
-            self._energy = mechanical_energy(scene, self.poses, self.velocities)
-            kinetic = kinetic_energy(scene, self.velocities)
+            self._energy = mechanical_energy(scene, self.poses, self.velocities, self._masses)
+            kinetic = kinetic_energy(scene, self.velocities, self._masses)
         radii = self.stepper.radii
         self.energy0 = self._energy
         self.energy_scale = (
@@ -160,7 +165,7 @@ class World:
 
     def _changed(self) -> None:
         self._at_state = None
-        self._energy = mechanical_energy(self.scene, self.poses, self.velocities)
+        self._energy = mechanical_energy(self.scene, self.poses, self.velocities, self._masses)
 
     def _current(self):
         if self._at_state is None:
@@ -206,7 +211,7 @@ class World:
                 raise self.failure(f"failed ({exc})") from exc
             self._check_start(report)
             self._check_step(new_q, new_v)
-            energy = mechanical_energy(self.scene, new_q, new_v)
+            energy = mechanical_energy(self.scene, new_q, new_v, self._masses)
             self._check_energy(energy)
         _wrap_angles(new_q)
         self.impact_times += [self.t + tau for tau in report.impact_times]

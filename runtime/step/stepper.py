@@ -298,6 +298,8 @@ class Stepper:
         elapsed, events = 0.0, 0
         while True:
             remaining = h - elapsed
+            if remaining <= 0.0:  # the last impact fell on the step's end (by rounding): done
+                return q, v
             margin = sweep.margins(v, remaining, self.radii, self.moving, self.gravity)
             if reach is not None:
                 moved = sweep.displacement(reach[0], q, self.radii)

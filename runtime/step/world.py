@@ -58,13 +58,18 @@ def kinetic_energy(scene, velocities: np.ndarray) -> float:
 
 
 def mechanical_energy(scene, poses: np.ndarray, velocities: np.ndarray) -> float:
-    """Kinetic + gravitational potential energy of the moving bodies."""
+    """Kinetic + gravitational potential energy of the moving bodies (+ the springs' and the
+    mutual gravitation's energy, if any: runtime.solve.applied_forces)."""
     g = np.asarray(scene.gravity)
     potential = sum(
         -body.mass * float(g @ q[:2])
         for body, q in zip(scene.bodies, poses, strict=True)
         if not body.fixed
     )
+    if scene.springs or scene.mutual_gravity:
+        from runtime.solve.applied_forces import applied_potential
+
+        potential += applied_potential(scene, poses)
     return kinetic_energy(scene, velocities) + potential
 
 

@@ -20,7 +20,7 @@ bodies too. :meth:`LinkedForces.impacts` eliminates the joint rows (Schur comple
 contacts see A_cc - A_cj A_jj^+ A_jc, the effective mass with the joints held), resolves the
 contacts' impulses with runtime.solve.impulses unchanged, and adds the joint impulses that keep
 d' = 0. :meth:`LinkedForces.hold_joints` removes a joint rate left by a press (a plastic joint
-impulse, least kinetic energy).
+impulse, least kinetic energy) unless a Stabilisation is there to damp it.
 """
 
 from __future__ import annotations
@@ -173,8 +173,10 @@ class LinkedForces(ContactForces):
 
     def hold_joints(self, q: np.ndarray, done, solve):
         """(frame, solution) with the joints' d' removed if a press left one (a least-energy
-        joint impulse), and the forces solved again; as it was when the joints hold."""
-        if self.joints is None:
+        joint impulse), and the forces solved again; as it was when the joints hold. With a
+        Stabilisation the joints' d' is meant to be non-zero (recovering a drift, d'' = -k_d d'
+        - k_p d, which also damps a press's d'): left to it."""
+        if self.joints is None or self.stabilisation is not None:
             return done
         frame, solution = done
         rows = self.joints.rows(q, frame.velocities)

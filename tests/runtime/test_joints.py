@@ -177,3 +177,38 @@ def test_joint_drift_is_corrected_only_with_stabilisation():
     run = simulate(scene, duration=0.2, stabilisation=Stabilisation.critically_damped(scale))
     decay = 1e-4 * (1 + run.t / scale) * np.exp(-run.t / scale)
     assert np.max(np.abs(offset(run) - decay)) < 1e-9, np.max(np.abs(offset(run) - decay))
+
+
+def test_rod_on_a_pin_resting_on_a_support_carries_the_static_load():
+    """A horizontal rod pinned at its left end rests on a fixed disc at x_s: statics about the
+    pin gives the support force N = m g (L/2) / x_s, and the rod stays at rest."""
+    length, height, mass, support = 1.0, 0.05, 2.0, 0.8
+    data = _rod_scene(length, height, mass)
+    data["simulation"]["duration"] = 0.5
+    data["body"].insert(0, {"name": "support", "fixed": True,
+                            "shape": {"type": "disc", "radius": 0.05},
+                            "position": [support, -height / 2 - 0.05]})  # fmt: skip
+    run = simulate(scene_from_dict(data))
+    assert np.max(np.abs(run.poses[:, 1] - run.poses[0, 1])) < 1e-12
+    expected = mass * G * (length / 2) / support
+    for contacts, forces in zip(run.contacts, run.contact_forces, strict=True):
+        assert len(contacts) == 1
+        assert forces[0] == pytest.approx(expected, rel=1e-9)
+
+
+def test_pin_between_two_moving_bodies_conserves_energy():
+    """A rod on a pin to the world with a disc pinned 0.5 m beyond its free end (0.2 m from
+    the disc's centre, so the two never touch): a double physical pendulum, no dissipation."""
+    data = _rod_scene(1.0, 0.05, 2.0)
+    data["simulation"]["duration"] = 5.0
+    data["body"].append(_disc("disc", (1.7, 0.0), radius=0.1, mass=0.7))
+    data["joint"].append({"type": "pin", "body1": "disc", "body2": "rod",
+                          "anchor1": [-0.2, 0.0], "anchor2": [1.0, 0.0]})  # fmt: skip
+    run = simulate(scene_from_dict(data))
+    rod, disc = run.poses[:, 0], run.poses[:, 1]
+    end = rod[:, :2] + 1.0 * np.column_stack([np.cos(rod[:, 2]), np.sin(rod[:, 2])])
+    anchor = disc[:, :2] - 0.2 * np.column_stack([np.cos(disc[:, 2]), np.sin(disc[:, 2])])
+    assert np.max(np.hypot(*(end - anchor).T)) < 1e-8  # RK4 drift, no stabilisation: 1.4e-9 m
+    assert np.ptp(disc[:, 2]) > 0.5  # the disc turns about its pin
+    assert run.impact_times.size == 0
+    assert np.max(np.abs(run.energy - run.energy[0])) < 1e-8 * 2.7 * G * 2.0

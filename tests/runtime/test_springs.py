@@ -149,3 +149,19 @@ def test_plain_scene_imports_no_link_module():
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
                          text=True, check=True, timeout=600)  # fmt: skip
     assert out.stdout.strip() == "[]", out.stdout
+
+
+def test_spring_carries_part_of_a_resting_discs_weight():
+    """A disc resting on a floor, a stretched spring to a point above it: the floor carries
+    N = m g - k (|s| - L) and the disc stays (the spring's force enters b at every stage)."""
+    mass, stiffness, rest = 2.0, 30.0, 0.4
+    spring = {"body1": "disc", "body2": "world", "anchor2": [0.0, 1.1], "rest_length": rest,
+              "stiffness": stiffness}  # fmt: skip
+    data = _scene([dict(PLAIN["body"][0]), _disc("disc", (0.0, 0.1), mass=mass)], 0.5,
+                  gravity=(0.0, -9.81), spring=[spring])  # fmt: skip
+    run = simulate(scene_from_dict(data))
+    assert np.max(np.abs(run.poses[:, 1] - run.poses[0, 1])) < 1e-12
+    expected = mass * 9.81 - stiffness * (1.0 - rest)
+    assert expected > 0
+    for forces in run.contact_forces:
+        assert forces.shape == (1,) and forces[0] == pytest.approx(expected, rel=1e-12)

@@ -29,7 +29,7 @@ class JointSet:
 
     def __init__(self, joints) -> None:
         self.groups = []  # (module, rows per joint, body1, body2, geometry, static2, members)
-        body1, body2 = [], []
+        body1, body2, self.names = [], [], []
         for kind in sorted(JOINT_KINDS.values()):
             mine = [j for j in joints if j.generated == kind]
             if not mine:
@@ -52,6 +52,7 @@ class JointSet:
             self.groups.append(
                 (module, rows, b1, b2, geometry, b2 == WORLD, np.arange(len(mine), dtype=np.int64))
             )
+            self.names += [j.name for j in mine for _ in range(rows)]
             body1.append(np.repeat(b1, rows))
             body2.append(np.repeat(np.where(b2 == WORLD, b1, b2), rows))
         self.body1 = np.concatenate(body1) if body1 else np.zeros(0, np.int64)
@@ -63,8 +64,8 @@ class JointSet:
         return cls(scene.joints) if scene.joints else None
 
     def rows(self, q: np.ndarray, v: np.ndarray, with_gaps: bool = True) -> Rows:
-        """Every joint row at (q, v), grouped by kind (pins first... in sorted kind order), each
-        joint's rows together; ``with_gaps=False`` leaves d and d' at 0."""
+        """Every joint row at (q, v), by kind (in sorted kind order), each joint's rows together
+        (``names`` gives each row's joint); ``with_gaps=False`` leaves d and d' at 0."""
         gaps, rates, jacobians, biases = [], [], [], []
         for module, r, b1, b2, geometry, static2, members in self.groups:
             m = members.size

@@ -99,9 +99,12 @@ class LinkedForces(ContactForces):
             start, stop = int(offsets[g]), int(offsets[g + 1])
             A = np.empty((stop - start, stop - start))
             assembly.island_matrix(jac, b1, b2, self.inverse_mass, self.fixed, start, stop, A)
-            f, clamped = lcp.solve_warm(
-                A, rates[start:stop], joint[order][start:stop], guess[start:stop]
-            )
+            try:
+                f, clamped = lcp.solve_warm(
+                    A, rates[start:stop], joint[order][start:stop], guess[start:stop]
+                )
+            except lcp.ContactSolverError as exc:
+                raise self._named(exc, order[start + np.asarray(exc.rows, int)], m) from None
             forces[start:stop], guess[start:stop] = f, clamped
         acc = self.free_acceleration.copy()
         assembly.add_forces(jac, b1, b2, self.inverse_mass, forces, acc)
@@ -110,6 +113,12 @@ class LinkedForces(ContactForces):
         problem.guess[:] = out_guess[:m]
         self.joint_forces = out_forces[m:]
         return ForceSolution(acc, out_forces[:m], out_rates[:m])
+
+    def _named(self, exc: lcp.ContactSolverError, rows: np.ndarray, m: int):
+        """The solver's failure with its joint rows named (its contact rows in problem order)."""
+        joints = sorted({self.joints.names[r - m] for r in rows.tolist() if r >= m})
+        named = f"{exc}; joints involved: {', '.join(joints) or 'none'}"
+        return lcp.ContactSolverError(named, [r for r in rows.tolist() if r < m])
 
     # -- islands, impacts, presses -----------------------------------------------------------
 

@@ -20,7 +20,8 @@ bodies too. :meth:`LinkedForces.impacts` eliminates the joint rows (Schur comple
 contacts see A_cc - A_cj A_jj^+ A_jc, the effective mass with the joints held), resolves the
 contacts' impulses with runtime.solve.impulses unchanged, and adds the joint impulses that keep
 d' = 0. :meth:`LinkedForces.hold_joints` removes a joint rate left by a press (a plastic joint
-impulse, least kinetic energy) unless a Stabilisation is there to damp it.
+impulse, least kinetic energy) unless a Stabilisation is there to damp it; the drift of d'
+is never touched without one.
 """
 
 from __future__ import annotations
@@ -180,24 +181,23 @@ class LinkedForces(ContactForces):
             return None
         return partial(self.impacts, self.joints.rows(q, v))
 
-    def hold_joints(self, q: np.ndarray, done, solve):
-        """(frame, solution) with the joints' d' removed if a press left one (a least-energy
-        joint impulse), and the forces solved again; as it was when the joints hold. With a
-        Stabilisation the joints' d' is meant to be non-zero (recovering a drift, d'' = -k_d d'
-        - k_p d, which also damps a press's d'): left to it."""
-        if self.joints is None or self.stabilisation is not None:
+    def hold_joints(self, q: np.ndarray, before, done, solve):
+        """(frame, solution) ``done`` (runtime.step.resting.settle of the frame ``before``) with
+        the change of the joints' d' that a press made undone (a least-energy joint impulse),
+        and the forces solved again; ``done`` itself if nothing was pressed. Never a drift correction: with a
+        Stabilisation, which damps d' as well (d'' = -k_d d' - k_p d), it is left alone."""
+        frame, _ = done
+        pressed = frame.velocities is not before.velocities
+        if self.joints is None or self.stabilisation is not None or not pressed:
             return done
-        frame, solution = done
-        rows = self.joints.rows(q, frame.velocities)
-        creep = settings.CREEP * settings.RESTING_SPEED
-        if not np.any(np.abs(rows.gap_velocity) > creep):
+        rows = self.joints.rows(q, frame.velocities, with_gaps=False)
+        change = rows.rate_change(frame.velocities - before.velocities)  # the press's d'
+        if not np.any(np.abs(change) > settings.CREEP * settings.RESTING_SPEED):
             return done
         jac = rows.dense_jacobian(self.n)
         weight = self.inverse_mass.ravel()
         a_jj = (jac * weight) @ jac.T
-        impulse = -np.linalg.pinv(a_jj, rcond=settings.JOINT_RANK, hermitian=True) @ (
-            rows.gap_velocity
-        )
+        impulse = -np.linalg.pinv(a_jj, rcond=settings.JOINT_RANK, hermitian=True) @ change
         dv = (weight * (jac.T @ impulse)).reshape(self.n, 3)
         frame = replace(
             frame, velocities=frame.velocities + dv, rows=frame.rows.with_velocity_change(dv)

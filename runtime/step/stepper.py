@@ -162,7 +162,7 @@ class Stepper:
                 frame, partial(self.solve, q), self.bodies, limits.creep_speed, self.recovery
             )
             if self.links is not None:
-                done = self.links.hold_joints(q, done, partial(self.solve, q))
+                done = self.links.hold_joints(q, frame, done, partial(self.solve, q))
         self._hold(done[0], active)
         return done
 

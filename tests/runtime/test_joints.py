@@ -4,6 +4,7 @@
   theta'' = -(m g L/2) cos(theta) / I_p, large amplitude (released horizontal), integrated here
   by solve_ivp (DOP853, rtol 1e-12) apart from the engine; and the pin's drift;
 * a double pendulum of two discs on distance joints: energy (no dissipation; joints do no work);
+  nothing but the exact b term holds a joint (no projection, no stabilisation unless asked);
 * a bob on a distance joint striking a wall 30 degrees past the bottom (contact and joint in one
   island): one degree of freedom, so the tangential speed reverses with the restitution e and the
   bob rises back to y = -L cos(30 deg) (1 - e^2); the rod's length holds through the impact.
@@ -73,10 +74,12 @@ def _disc(name: str, position, mass: float = 1.0, radius: float = 0.1, **more) -
 
 
 def test_double_pendulum_on_distance_joints_conserves_energy():
+    """Released horizontal, it turns chaotic; RK4 without stabilisation at dt = 0.5 ms: energy
+    1.3e-9 relative, lengths 2.3e-9 m over 10 s (at 1 ms: 2.1e-8 and 3.7e-8, the h^4 of RK4)."""
     scene = scene_from_dict(
         {
             "scene": {"gravity": [0.0, -G]},
-            "simulation": {"duration": 10.0, "dt": 1e-3},
+            "simulation": {"duration": 10.0, "dt": 5e-4},
             "body": [_disc("a", (1.0, 0.0)), _disc("b", (2.0, 0.0), mass=0.5)],
             "joint": [
                 {"type": "distance", "body1": "a", "body2": "world", "anchor2": [0.0, 0.0]},
@@ -208,7 +211,9 @@ def test_pin_between_two_moving_bodies_conserves_energy():
     rod, disc = run.poses[:, 0], run.poses[:, 1]
     end = rod[:, :2] + 1.0 * np.column_stack([np.cos(rod[:, 2]), np.sin(rod[:, 2])])
     anchor = disc[:, :2] - 0.2 * np.column_stack([np.cos(disc[:, 2]), np.sin(disc[:, 2])])
-    assert np.max(np.hypot(*(end - anchor).T)) < 1e-8  # RK4 drift, no stabilisation: 1.4e-9 m
+    # RK4 at 1 ms, no stabilisation, the disc spinning at up to 36 rad/s: the pin drifts
+    # 1.15e-6 m and the energy 1.1e-5 J in 5 s (7.2e-8 m at 0.5 ms, 4.5e-9 m at 0.25 ms: h^4)
+    assert np.max(np.hypot(*(end - anchor).T)) < 2e-6
     assert np.ptp(disc[:, 2]) > 0.5  # the disc turns about its pin
     assert run.impact_times.size == 0
-    assert np.max(np.abs(run.energy - run.energy[0])) < 1e-8 * 2.7 * G * 2.0
+    assert np.max(np.abs(run.energy - run.energy[0])) < 1e-6 * 2.7 * G * 2.0

@@ -217,3 +217,41 @@ def test_pin_between_two_moving_bodies_conserves_energy():
     assert np.ptp(disc[:, 2]) > 0.5  # the disc turns about its pin
     assert run.impact_times.size == 0
     assert np.max(np.abs(run.energy - run.energy[0])) < 1e-6 * 2.7 * G * 2.0
+
+
+def test_a_press_is_undone_at_the_joints_by_the_least_energy_impulse():
+    """LinkedForces.hold_joints after a press (a velocity change dv on a jointed body): the
+    joints' d' is back to what it was before the press, and the correction is W J^T lambda
+    (the least kinetic energy change, checked against lstsq here); without a press, nothing."""
+    from runtime.collide.contact_set import Contacts
+    from runtime.solve.linked_forces import LinkedForces
+    from runtime.solve.rows import Rows
+    from runtime.step.classify import Frame
+
+    data = _rod_scene(1.0, 0.05, 2.0)
+    data["body"].append(_disc("disc", (1.7, 0.0), radius=0.1, mass=0.7))
+    data["joint"].append({"type": "pin", "body1": "disc", "body2": "rod",
+                          "anchor1": [-0.2, 0.0], "anchor2": [1.0, 0.0]})  # fmt: skip
+    scene = scene_from_dict(data)
+    links = LinkedForces(scene)
+    q = scene.poses() + np.array([[0.0, 0.0, 0.3], [0.0, 0.0, -0.2]])  # any pose: J at q
+    v = np.array([[0.1, -0.2, 0.4], [0.3, 0.1, -1.0]])
+    empty = Rows(*(np.zeros(0),) * 2, np.zeros((0, 6)), np.zeros(0), *(np.zeros(0, int),) * 2)
+
+    def frame(velocities):
+        return Frame(Contacts.empty(), [], empty, np.zeros(0, int), velocities, np.zeros(2),
+                     np.zeros(0))  # fmt: skip
+
+    before = frame(v)
+    assert links.hold_joints(q, before, (before, "solution"), None)[1] == "solution"
+    pressed = frame(v + np.array([[0.0, 0.0, 0.0], [0.05, -0.02, 0.3]]))
+    held, solution = links.hold_joints(q, before, (pressed, None), lambda f: "solved")
+    assert solution == "solved"
+    rows = links.joints.rows(q, v)
+    jac = rows.dense_jacobian(2)
+    assert np.allclose(jac @ held.velocities.ravel(), jac @ v.ravel(), atol=1e-14, rtol=0)
+    weight = scene.inverse_masses.ravel()
+    dv = held.velocities.ravel() - pressed.velocities.ravel()
+    target = jac @ (v - pressed.velocities).ravel()
+    lam = np.linalg.lstsq((jac * weight) @ jac.T, target, rcond=None)[0]
+    assert np.allclose(dv, weight * (jac.T @ lam), atol=1e-14, rtol=0)

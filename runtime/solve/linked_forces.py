@@ -183,23 +183,34 @@ class LinkedForces(ContactForces):
 
     def hold_joints(self, q: np.ndarray, before, done, solve):
         """(frame, solution) ``done`` (runtime.step.resting.settle of the frame ``before``) with
-        the change of the joints' d' that a press made undone (a least-energy joint impulse),
-        and the forces solved again; ``done`` itself if nothing was pressed. Never a drift correction: with a
-        Stabilisation, which damps d' as well (d'' = -k_d d' - k_p d), it is left alone."""
+        the change of the joints' d' that a press made undone (:meth:`held_velocities`), and
+        the forces solved again; ``done`` itself if nothing was pressed. Never a drift
+        correction: with a Stabilisation, which damps d' as well (d'' = -k_d d' - k_p d), it
+        is left alone."""
         frame, _ = done
         pressed = frame.velocities is not before.velocities
         if self.joints is None or self.stabilisation is not None or not pressed:
             return done
-        rows = self.joints.rows(q, frame.velocities, with_gaps=False)
-        change = rows.rate_change(frame.velocities - before.velocities)  # the press's d'
-        if not np.any(np.abs(change) > settings.CREEP * settings.RESTING_SPEED):
+        held = self.held_velocities(q, before.velocities, frame.velocities)
+        if held is frame.velocities:
             return done
+        dv = held - frame.velocities
+        frame = replace(frame, velocities=held, rows=frame.rows.with_velocity_change(dv))
+        return frame, solve(frame)
+
+    def held_velocities(self, q: np.ndarray, v0: np.ndarray, v1: np.ndarray) -> np.ndarray:
+        """``v1`` (velocities after a jump from ``v0`` that ignored the joints: a press, an
+        impulse applied by hand) with the joints' part of the jump undone: the least-energy
+        joint impulse (W J^T lambda) that gives the joints their d' at ``v0`` back. ``v1``
+        itself when the jump did not move a joint."""
+        if self.joints is None:
+            return v1
+        rows = self.joints.rows(q, v1, with_gaps=False)
+        change = rows.rate_change(v1 - v0)
+        if not np.any(np.abs(change) > settings.CREEP * settings.RESTING_SPEED):
+            return v1
         jac = rows.dense_jacobian(self.n)
         weight = self.inverse_mass.ravel()
         a_jj = (jac * weight) @ jac.T
         impulse = -np.linalg.pinv(a_jj, rcond=settings.JOINT_RANK, hermitian=True) @ change
-        dv = (weight * (jac.T @ impulse)).reshape(self.n, 3)
-        frame = replace(
-            frame, velocities=frame.velocities + dv, rows=frame.rows.with_velocity_change(dv)
-        )
-        return frame, solve(frame)
+        return v1 + (weight * (jac.T @ impulse)).reshape(self.n, 3)

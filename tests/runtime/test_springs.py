@@ -165,3 +165,20 @@ def test_spring_carries_part_of_a_resting_discs_weight():
     assert expected > 0
     for forces in run.contact_forces:
         assert forces.shape == (1,) and forces[0] == pytest.approx(expected, rel=1e-12)
+
+
+def test_ensembles_take_damping_and_refuse_links():
+    """Copies of a damped disc each follow x(t) = v0 (1 - e^(-k t)) / k; copies of a scene with
+    a spring are refused with one line (the links would need re-indexing per copy)."""
+    import runtime
+
+    damped = _disc("d", (0.0, 0.0), linear_damping=0.5)
+    scene = scene_from_dict(_scene([damped], 0.1))
+    speeds = np.array([[1.0, 0.0], [2.0, 0.0]])
+    ensemble = runtime.simulate_ensemble(scene, {"d.velocity": speeds}, duration=0.1, dt=1e-3)
+    exact = speeds[:, 0] * (1.0 - math.exp(-0.05)) / 0.5
+    assert np.allclose(ensemble.poses[:, -1, 0, 0], exact, rtol=1e-12, atol=0)
+    spring = {"body1": "d", "body2": "world", "rest_length": 0.0, "stiffness": 1.0}
+    linked = scene_from_dict(_scene([damped], 0.1, spring=[spring]))
+    with pytest.raises(ValueError, match=r"copies of a scene with joints, springs or mutual"):
+        runtime.simulate_ensemble(linked, {"d.velocity": speeds}, duration=0.1, dt=1e-3)

@@ -273,3 +273,26 @@ def test_an_impulse_on_a_pinned_rod_turns_it_about_the_pin():
     for _ in range(100):
         world.step(1e-3)
     assert world.poses[0, 2] == pytest.approx(0.1 * w, rel=1e-9)
+
+
+def test_a_joint_to_a_fixed_body_is_one_to_the_world_at_its_anchor():
+    """Anchors are in each body's shape coordinates: a joint to a fixed body turned by 90
+    degrees at (0, 2) with anchor [1, 0] is a joint to the world at (0, 3); written the other
+    way round (the fixed body first) it is the same joint; a moving body's anchor is moved to
+    its centre-of-mass coordinates (a half-disc's centroid is not its shape origin)."""
+    bob = {"name": "bob", "shape": {"type": "half_disc", "radius": 0.3}, "mass": 1.0,
+           "position": [0.0, 0.0]}  # fmt: skip
+    ceiling = {"name": "ceiling", "fixed": True, "position": [0.0, 2.0], "angle": math.pi / 2,
+               "shape": {"type": "disc", "radius": 0.05}}  # fmt: skip
+    joint = {"type": "distance", "body1": "bob", "body2": "ceiling", "anchor1": [0.0, 0.0],
+             "anchor2": [1.0, 0.0]}  # fmt: skip
+    flipped = {**joint, "body1": "ceiling", "body2": "bob", "anchor1": [1.0, 0.0],
+               "anchor2": [0.0, 0.0]}  # fmt: skip
+    made = [scene_from_dict({"body": [ceiling, bob], "joint": [j]}) for j in (joint, flipped)]
+    assert made[0].joints == made[1].joints
+    (j,) = made[0].joints
+    centroid = 4 * 0.3 / (3 * math.pi)  # of the half-disc, above its arc's centre
+    assert (j.body1, j.body2) == (1, -1)
+    assert j.anchor1 == pytest.approx((0.0, -centroid), abs=1e-15)
+    assert j.anchor2 == pytest.approx((0.0, 3.0), abs=1e-15)
+    assert j.length == pytest.approx(3.0, rel=1e-15)

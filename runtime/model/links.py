@@ -23,6 +23,7 @@ __all__ = [
     "anchor_in_body",
     "anchor_in_world",
     "body_point_in_world",
+    "link_segments",
 ]
 
 WORLD = -1  # body index of the world end of a link
@@ -95,4 +96,17 @@ def anchor_points(poses: np.ndarray, body: np.ndarray, anchor: np.ndarray) -> np
     a = anchor[moving]
     out[moving, 0] = q[:, 0] + c * a[:, 0] - s * a[:, 1]
     out[moving, 1] = q[:, 1] + s * a[:, 0] + c * a[:, 1]
+    return out
+
+
+def link_segments(links: Sequence, poses: np.ndarray) -> np.ndarray:
+    """(3 k, 2) points of the k links' segments anchor 1 -> anchor 2 at ``poses``, each followed
+    by a NaN row (one polyline for plotting)."""
+    body1 = np.array([link.body1 for link in links], dtype=np.int64)
+    body2 = np.array([link.body2 for link in links], dtype=np.int64)
+    a1 = np.array([link.anchor1 for link in links], dtype=float).reshape(-1, 2)
+    a2 = np.array([link.anchor2 for link in links], dtype=float).reshape(-1, 2)
+    out = np.full((3 * len(links), 2), np.nan)
+    out[0::3] = anchor_points(poses, body1, a1)
+    out[1::3] = anchor_points(poses, body2, a2)
     return out

@@ -225,8 +225,12 @@ class Scene:
     def linked(self) -> bool:
         """Whether anything but gravity and contacts acts: joints, springs, damping or mutual
         gravity (the engine then takes the general path, runtime.solve.linked_forces)."""
-        damped = any(b.linear_damping or b.angular_damping for b in self.bodies if not b.fixed)
-        return bool(self.joints or self.springs or self.mutual_gravity or damped)
+        return bool(self.joints or self.springs or self.mutual_gravity or self.damped)
+
+    @property
+    def damped(self) -> bool:
+        """Whether a moving body has linear or angular damping."""
+        return any(b.linear_damping or b.angular_damping for b in self.bodies if not b.fixed)
 
     @property
     def shapes(self) -> list[Any]:

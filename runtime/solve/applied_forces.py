@@ -50,8 +50,7 @@ class AppliedForces:
     @classmethod
     def of(cls, scene) -> AppliedForces | None:
         """The scene's applied forces, or None when it has none."""
-        damped = any(b.linear_damping or b.angular_damping for b in scene.bodies if not b.fixed)
-        if not (scene.springs or scene.mutual_gravity or damped):
+        if not (scene.springs or scene.mutual_gravity or scene.damped):
             return None
         return cls(scene)
 

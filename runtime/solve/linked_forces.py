@@ -59,7 +59,6 @@ class LinkedForces(ContactForces):
         self.gravity = self.free_acceleration.copy()
         self.applied = AppliedForces.of(scene)
         self.joints = JointSet.of(scene)
-        self.joint_forces = np.zeros(0 if self.joints is None else self.joints.size)
 
     # -- forces ------------------------------------------------------------------------------
 
@@ -69,9 +68,6 @@ class LinkedForces(ContactForces):
             return self.gravity.copy()
         return self.gravity + self.applied.accelerations(q, v)
 
-    def joint_rows(self, q: np.ndarray, v: np.ndarray) -> Rows:
-        return self.joints.rows(q, v, with_gaps=self.stabilisation is not None)
-
     def solve(self, problem: ForceProblem, rows: Rows, state=None) -> ForceSolution:
         """Accelerations and the contacts' forces at ``state`` = (q, v), the state of ``rows``."""
         q, v = state
@@ -79,12 +75,11 @@ class LinkedForces(ContactForces):
         if self.joints is None:
             return super().solve(problem, rows)
         m = len(rows.bias)
-        every = _concat(rows, self.joint_rows(q, v))
+        every = _concat(rows, self.joints.rows(q, v, with_gaps=self.stabilisation is not None))
         bias = every.bias
         if self.stabilisation is not None:
             k = self.stabilisation
             bias = bias + k.damping * every.gap_velocity + k.stiffness * every.gap
-        joint = np.arange(every.bias.size) >= m
         labels = contact_islands(
             body_islands(self.n, every.body1, every.body2, self.fixed),
             every.body1, every.body2, self.fixed,
@@ -92,6 +87,7 @@ class LinkedForces(ContactForces):
         order, offsets = grouped(labels)
         jac = np.ascontiguousarray(every.jacobian[order])
         b1, b2 = every.body1[order], every.body2[order]
+        joint = order >= m
         rates = np.empty(order.size)
         assembly.free_rates(jac, b1, b2, bias[order], self.free_acceleration, rates)
         guess = np.concatenate([problem.guess, np.ones(every.bias.size - m, bool)])[order]
@@ -102,7 +98,7 @@ class LinkedForces(ContactForces):
             assembly.island_matrix(jac, b1, b2, self.inverse_mass, self.fixed, start, stop, A)
             try:
                 f, clamped = lcp.solve_warm(
-                    A, rates[start:stop], joint[order][start:stop], guess[start:stop]
+                    A, rates[start:stop], joint[start:stop], guess[start:stop]
                 )
             except lcp.ContactSolverError as exc:
                 raise self._named(exc, order[start + np.asarray(exc.rows, int)], m) from None
@@ -112,7 +108,6 @@ class LinkedForces(ContactForces):
         out_forces, out_rates, out_guess = np.empty_like(forces), np.empty_like(rates), guess.copy()
         out_forces[order], out_rates[order], out_guess[order] = forces, rates, guess
         problem.guess[:] = out_guess[:m]
-        self.joint_forces = out_forces[m:]
         return ForceSolution(acc, out_forces[:m], out_rates[:m])
 
     def _named(self, exc: lcp.ContactSolverError, rows: np.ndarray, m: int):

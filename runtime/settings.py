@@ -162,6 +162,15 @@ ENSEMBLE_GC_STEPS = 100  # steps: an ensemble collects Python's young garbage ge
 # often, its automatic collection being off (full collections of 10,000 copies' per-contact
 # objects took half of each step; runtime.step.ensemble)
 
+# -- joints, springs, damping, mutual gravity (issue #16) ---------------------------------------
+
+JOINT_ASSEMBLY = 1e-9  # relative to the anchors' distance from the origin (at least 1 m): a pin
+# joint's anchors must coincide at t = 0 within this (a pin holds their separation as it is, so a
+# larger one is a mistake in the scene, not a joint), a distance joint's must be farther apart
+JOINT_RANK = 1e-10  # relative to the largest eigenvalue of a joint block J W J^T: smaller ones
+# are dependent joint rows (a pin and a distance joint on the same anchors, a closed loop), whose
+# impulses the pseudo-inverse leaves at least-norm instead of dividing by rounding
+
 # -- guards ------------------------------------------------------------------------------------
 
 PENETRATION_LIMIT = 1e-2  # relative to the smaller body's bounding radius: an overlap deeper

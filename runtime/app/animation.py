@@ -33,6 +33,7 @@ from PIL import Image  # noqa: E402
 
 from runtime.app.plotting import FIXED_EDGE, FIXED_FILL, NO_MATHTEXT, outline, place  # noqa: E402
 from runtime.app.text import terminal_safe  # noqa: E402
+from runtime.model.links import link_segments  # noqa: E402
 
 __all__ = [
     "FfmpegError",
@@ -112,6 +113,9 @@ def scene_view(scene: Any, poses: np.ndarray, aspect: float = 1.0) -> View:
         corners = np.concatenate(
             [(centres - reach).reshape(-1, 2), (centres + reach).reshape(-1, 2)]
         )
+        links = [*getattr(scene, "joints", []), *getattr(scene, "springs", [])]
+        if links:  # their world ends too (a pendulum's pivot): part of what moves
+            corners = np.concatenate([corners, link_segments(links, poses[0])])
         movers = _bounds(corners)
         parts.append(corners)
     everything = _bounds(np.concatenate(parts)) if parts else None
@@ -162,7 +166,8 @@ def _contact_points(contacts: Any) -> tuple[np.ndarray, np.ndarray]:
 
 def render_frames(scene: Any, run: Any, look: Look = Look()) -> Iterator[np.ndarray]:
     """(height, width, 3) uint8 RGB frames of the run: each body's edges at its recorded pose
-    (fixed bodies grey), the contact points and (``look.arrows``) short arrows along their
+    (fixed bodies grey), its joints and springs as lines between their anchors, the contact
+    points and (``look.arrows``) short arrows along their
     normals; about ``look.fps`` frames per simulated second, at most MAX_FRAMES."""
     frames = frame_indices(run.t, look.fps)
     if len(frames) == 0:
@@ -202,6 +207,8 @@ def render_frames(scene: Any, run: Any, look: Look = Look()) -> Iterator[np.ndar
             (line,) = ax.plot([], [], color=c, lw=1.3, animated=True)
             (spoke,) = ax.plot([], [], color=c, lw=0.8, animated=True)
             moving.append((i, line, fill, spoke))
+        links = [*getattr(scene, "joints", []), *getattr(scene, "springs", [])]
+        (links_line,) = ax.plot([], [], color="0.35", lw=0.9, zorder=4, animated=True)
         (points_line,) = ax.plot([], [], "o", color="crimson", ms=3, zorder=5, animated=True)
         (normals_line,) = ax.plot([], [], color="crimson", lw=0.9, zorder=5, animated=True)
         clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize=8, animated=True)
@@ -220,6 +227,9 @@ def render_frames(scene: Any, run: Any, look: Look = Look()) -> Iterator[np.ndar
                 ax.draw_artist(line)
                 spoke.set_data(*place(spokes[i], pose[i]).T)
                 ax.draw_artist(spoke)
+            if links:  # joints and springs: a line between their anchors
+                links_line.set_data(*link_segments(links, pose).T)
+                ax.draw_artist(links_line)
             contacts = run.contacts[k] if k < len(run.contacts) else []
             pts, nrm = _contact_points(contacts)
             points_line.set_data(pts[:, 0], pts[:, 1])

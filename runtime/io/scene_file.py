@@ -18,6 +18,7 @@ from typing import Any
 
 from runtime.io.scene_checks import check_finite_scales, check_overlaps, check_tolerances
 from runtime.io.scene_facing import check_facing
+from runtime.io.scene_links import read_joints, read_springs
 from runtime.io.scene_table import SceneError, SceneWarning, Table, body_label
 from runtime.io.scene_validation import (
     SCENE_KEYS,
@@ -139,7 +140,10 @@ def scene_from_dict(
         overlap_tolerance=scene_table.number("overlap_tolerance", 1e-9, check="positive"),
         simulation=simulation,
         source=source,
+        mutual_gravity=scene_table.number("mutual_gravity", 0.0, check="nonnegative"),
     )
+    scene.joints = read_joints(top, bodies)
+    scene.springs = read_springs(top, bodies)
     check_tolerances(scene, scene_table)
     check_finite_scales(scene)
     check_facing(scene)

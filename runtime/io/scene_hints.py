@@ -17,22 +17,14 @@ __all__ = ["degrees_hint", "looks_like_degrees", "unknown_key_hint", "unknown_ty
 
 # Keys (any table, any case) naming features the engine does not have -> what to say.
 _FRICTION = "friction is not supported yet: contacts are frictionless (normal forces only)"
-_JOINTS = "joints are not supported yet: bodies interact only through contacts"
-_SPRINGS = "springs are not supported yet: bodies interact only through contacts"
-_DAMPING = "damping is not supported yet: only gravity and contact forces act on a body"
+_MOTORS = "motors are not supported yet: a joint holds its anchors (pin) or distance only"
 _FORCES = "applied forces are not supported yet: only gravity and contact forces act on a body"
-_MUTUAL = "mutual gravity is not supported: gravity is the uniform [scene] gravity"
 _FILTERS = "collision filtering is not supported: every pair of bodies can touch"
 UNSUPPORTED: dict[str, str] = {
     **dict.fromkeys(("friction", "mu", "static_friction", "dynamic_friction",
                      "kinetic_friction", "rolling_friction", "rolling_resistance"), _FRICTION),
-    **dict.fromkeys(("joint", "joints", "constraint", "constraints", "hinge", "motor"),
-                    _JOINTS),
-    **dict.fromkeys(("spring", "springs", "stiffness"), _SPRINGS),
-    **dict.fromkeys(("damping", "linear_damping", "angular_damping", "drag", "air_resistance"),
-                    _DAMPING),
+    **dict.fromkeys(("motor", "motors"), _MOTORS),
     **dict.fromkeys(("force", "forces", "torque", "impulse"), _FORCES),
-    **dict.fromkeys(("mutual_gravity", "gravitational_constant", "attraction"), _MUTUAL),
     **dict.fromkeys(("collision_group", "collision_mask", "collision_layer", "collision_filter"),
                     _FILTERS),
 }  # fmt: skip
@@ -48,6 +40,18 @@ SYNONYMS: dict[str, str] = {
     "spin": "angular_velocity",
     "static": "fixed",
     "moment_of_inertia": "inertia",
+    "joints": "joint",
+    "constraint": "joint",
+    "constraints": "joint",
+    "hinge": "joint",
+    "springs": "spring",
+    "damping": "linear_damping",
+    "drag": "linear_damping",
+    "air_resistance": "linear_damping",
+    "gravitational_constant": "mutual_gravity",
+    "attraction": "mutual_gravity",
+    "length": "rest_length",
+    "k": "stiffness",
 }
 SHAPE_SYNONYMS: dict[str, str] = {
     "circle": "disc",

@@ -22,6 +22,7 @@ from runtime.io.scene_hints import (
     looks_like_degrees,
     unknown_type_hint,
 )
+from runtime.io.scene_links import read_body_damping
 from runtime.io.scene_table import (
     REQUIRED,
     SceneError,
@@ -56,8 +57,15 @@ __all__ = [
 ]
 
 
-TOP_LEVEL_KEYS = ("scene", "simulation", "body")
-SCENE_KEYS = ("name", "description", "gravity", "contact_tolerance", "overlap_tolerance")
+TOP_LEVEL_KEYS = ("scene", "simulation", "body", "joint", "spring")
+SCENE_KEYS = (
+    "name",
+    "description",
+    "gravity",
+    "contact_tolerance",
+    "overlap_tolerance",
+    "mutual_gravity",
+)
 SIMULATION_KEYS = ("duration", "dt", "method", "stabilisation")
 BODY_KEYS = (
     "name",
@@ -72,6 +80,8 @@ BODY_KEYS = (
     "velocity",
     "angular_velocity",
     "restitution",
+    "linear_damping",
+    "angular_damping",
 )
 
 # Shape type -> its parameters and their kinds: "positive", "nonnegative", "finite" numbers,
@@ -252,6 +262,7 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
         "position": table.vector("position", (0.0, 0.0) if fixed else REQUIRED),
         "angle": _read_angle(table),
         "restitution": table.number("restitution", 0.0, check="unit"),
+        **read_body_damping(table, fixed),
     }
     if fixed:
         for key in ("mass", "density", "inertia", "center_of_mass"):

@@ -19,6 +19,7 @@ import numpy as np
 from runtime.collide import contacts as _contacts
 from runtime.collide.contact_set import Contacts
 from runtime.collide.finder import ContactFinder
+from runtime.model.links import WORLD, Joint, Spring
 from runtime.model.regions import overlap_depth
 from runtime.settings import JOIN_EPS
 
@@ -58,6 +59,8 @@ class Body:
     fixed: bool = False
     restitution: float = 0.0
     origin: Vec2 = (0.0, 0.0)
+    linear_damping: float = 0.0  # 1/s: force -k m v
+    angular_damping: float = 0.0  # 1/s: torque -k I w
 
     def __post_init__(self) -> None:
         self.position = _pair(self.position)
@@ -98,6 +101,8 @@ class Body:
         fixed: bool = False,
         restitution: float = 0.0,
         center_of_mass: Sequence[float] | None = None,
+        linear_damping: float = 0.0,
+        angular_damping: float = 0.0,
     ) -> Body:
         """A body from a shape in its own coordinates.
 
@@ -146,6 +151,8 @@ class Body:
             angular_velocity=angular_velocity,
             restitution=restitution,
             origin=(0.0 - float(offset[0]), 0.0 - float(offset[1])),
+            linear_damping=float(linear_damping),
+            angular_damping=float(angular_damping),
         )
 
     @property
@@ -210,6 +217,20 @@ class Scene:
     source: str = "<dict>"
     description: str = ""
     groups: list[int] | None = None
+    joints: list[Joint] = field(default_factory=list)
+    springs: list[Spring] = field(default_factory=list)
+    mutual_gravity: float = 0.0
+
+    @property
+    def linked(self) -> bool:
+        """Whether anything but gravity and contacts acts: joints, springs, damping or mutual
+        gravity (the engine then takes the general path, runtime.solve.linked_forces)."""
+        return bool(self.joints or self.springs or self.mutual_gravity or self.damped)
+
+    @property
+    def damped(self) -> bool:
+        """Whether a moving body has linear or angular damping."""
+        return any(b.linear_damping or b.angular_damping for b in self.bodies if not b.fixed)
 
     @property
     def shapes(self) -> list[Any]:
@@ -282,4 +303,13 @@ class Scene:
         moved = self.copy()
         for body in moved.bodies:
             body.position = (body.position[0] + float(dx), body.position[1] + float(dy))
+        moved.joints = [_shift_world_end(j, dx, dy) for j in moved.joints]
+        moved.springs = [_shift_world_end(s, dx, dy) for s in moved.springs]
         return moved
+
+
+def _shift_world_end(link, dx: float, dy: float):
+    """A link with its world anchor (if any) translated by (dx, dy)."""
+    if link.body2 != WORLD:
+        return link
+    return replace(link, anchor2=(link.anchor2[0] + float(dx), link.anchor2[1] + float(dy)))

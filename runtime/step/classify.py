@@ -201,11 +201,14 @@ def make_frame(
     limits: Limits,
     recent: set | frozenset,
     keys: list,
+    impacts=None,
 ) -> Frame:
     """Classify ``contacts`` (``keys``: their keys, runtime.collide.contact_keys; ``held``:
     keys of the contacts resting before) and resolve the impacts among the touching ones,
     island by island. A contact of ``recent`` (resting at the end of the last step) that
-    collides is a resting contact that drifted open, not a collision: plastic."""
+    collides is a resting contact that drifted open, not a collision: plastic. ``impacts``:
+    what resolves them instead of :func:`_impacts` (same arguments and result;
+    runtime.solve.linked_forces holds joints through them)."""
     rows = evaluator.rows(contacts, poses, velocities)
     modes = classify(rows.gap, rows.gap_velocity, limits, member(keys, held))
     m = len(contacts)
@@ -213,7 +216,7 @@ def make_frame(
     touching = np.flatnonzero(modes != OPEN)
     if touching.size == 0 or not np.any(rows.gap_velocity[touching] < -limits.creep_speed):
         return frame
-    p, dv = _impacts(bodies, contacts, rows, touching, keys, recent, limits)
+    p, dv = (impacts or _impacts)(bodies, contacts, rows, touching, keys, recent, limits)
     new_velocities = velocities + dv
     rows = rows.with_velocity_change(dv)
     new_modes = classify(rows.gap, rows.gap_velocity, limits, member(keys, held))

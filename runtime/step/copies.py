@@ -60,6 +60,11 @@ class Copies:
 
     def __init__(self, template: Scene, variations: Variations) -> None:
         self.template, self.n = template, len(template.bodies)
+        if template.joints or template.springs or template.mutual_gravity:
+            raise ValueError(
+                f"{template.source}: copies of a scene with joints, springs or mutual gravity "
+                "are not supported yet (issue #16); run its variations one by one"
+            )
         self.count, self.columns = variations.copies, variations.columns
         own = [i for i, b in enumerate(template.bodies) if not b.fixed or i in variations.bodies]
         self.own = np.array(own, dtype=np.int64)

@@ -92,7 +92,12 @@ class Stepper:
         self.bodies = Bodies.of(scene)
         self.collision = Collision(scene)
         self.evaluator = RowEvaluator(scene.contact_cases(), self.fixed)
-        self.forces = ContactForces(scene, stabilisation)
+        self.links = None  # joints, springs, damping, mutual gravity: the general path only
+        if scene.linked:
+            from runtime.solve.linked_forces import LinkedForces
+
+            self.links = LinkedForces(scene, stabilisation)
+        self.forces = self.links or ContactForces(scene, stabilisation)
         self.with_gaps = stabilisation is not None
         self.recovery = 0.0 if stabilisation is None else 0.5 * stabilisation.damping
         self.resting_speed = resting_speed
@@ -110,7 +115,11 @@ class Stepper:
         self.evaluations = 0  # right-hand-side evaluations (integrator stages)
         self.ovals = self.collision.finder.has_ovals
         self.compiled = (
-            settings.COMPILED and method in FIXED_STEP and stabilisation is None and not self.ovals
+            settings.COMPILED
+            and method in FIXED_STEP
+            and stabilisation is None
+            and not self.ovals
+            and self.links is None
         )
         if self.compiled:
             # imported here: they compile in every contact case (runtime/solve/kernel_set.py);
@@ -146,11 +155,14 @@ class Stepper:
         keys = self.collision.key_list(contacts)
         done = self._compiled_frame(contacts, keys, q, v, margin, limits) if self.compiled else None
         if done is None:
+            impacts = None if self.links is None else self.links.frame_impacts(q, v)
             frame = make_frame(self.evaluator, self.bodies, contacts, q, v, margin, self.held,
-                               limits, self.recent, keys)  # fmt: skip
+                               limits, self.recent, keys, impacts)  # fmt: skip
             done = settle(
                 frame, partial(self.solve, q), self.bodies, limits.creep_speed, self.recovery
             )
+            if self.links is not None:
+                done = self.links.hold_joints(q, frame, done, partial(self.solve, q))
         self._hold(done[0], active)
         return done
 
@@ -228,12 +240,18 @@ class Stepper:
         )
         problem = self.forces.problem(contacts, labels, self.collision.key_list(contacts))
         rows = self.evaluator.rows(problem.contacts, q, v, self.with_gaps)
-        solution = self.forces.solve(problem, rows)
+        solution = self._solve(problem, rows, q, v)
         self.forces.remember(problem)
         m = len(contacts)
         forces, rates = np.empty(m), np.empty(m)
         forces[problem.order], rates[problem.order] = solution.forces, solution.free_rates
         return RestingSolution(problem, solution.accelerations, forces, rates)
+
+    def _solve(self, problem: ForceProblem, rows: Rows, q, v) -> ForceSolution:
+        """Stage 4 on kernel rows at (q, v); linked scenes' forces depend on the state too."""
+        if self.links is None:
+            return self.forces.solve(problem, rows)
+        return self.links.solve(problem, rows, (q, v))
 
     def rhs(self, problem: ForceProblem):
         """(q, v) -> accelerations with the forces of ``problem``'s contacts solved there."""
@@ -244,7 +262,7 @@ class Stepper:
             if self.ovals:  # an oval's contact point moves over it: found again at each stage
                 contacts = self.collision.refresh_ovals(contacts, q)
             rows = self.evaluator.rows(contacts, q, v, self.with_gaps)
-            solution: ForceSolution = self.forces.solve(problem, rows)
+            solution: ForceSolution = self._solve(problem, rows, q, v)
             return solution.accelerations
 
         return accelerations
@@ -347,7 +365,8 @@ class Stepper:
     def _islands(self, frame: Frame, active) -> np.ndarray:
         """Island label per body from the frame's contacts (-1: fixed, or not ``active``)."""
         c = frame.contacts
-        labels = body_islands(self.n, c.body1, c.body2, self.fixed)
+        b1, b2 = (c.body1, c.body2) if self.links is None else self.links.joined(c.body1, c.body2)
+        labels = body_islands(self.n, b1, b2, self.fixed)
         labels[self.fixed] = -1
         if active is not None:
             labels[~active] = -1

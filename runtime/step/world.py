@@ -65,11 +65,16 @@ def kinetic_energy(scene, velocities: np.ndarray, masses=None) -> float:
 
 
 def mechanical_energy(scene, poses: np.ndarray, velocities: np.ndarray, masses=None) -> float:
-    """Kinetic + gravitational potential energy of the moving bodies."""
+    """Kinetic + gravitational potential energy of the moving bodies (+ the springs' and the
+    mutual gravitation's energy, if any: runtime.solve.applied_forces)."""
     masses = body_masses(scene) if masses is None else masses
     g = np.asarray(scene.gravity, dtype=float)
     q = np.asarray(poses, dtype=float).reshape(-1, 3)
     potential = -float(np.sum(masses[0] * (g[0] * q[:, 0] + g[1] * q[:, 1])))
+    if scene.springs or scene.mutual_gravity:
+        from runtime.solve.applied_forces import applied_potential
+
+        potential += applied_potential(scene, poses)
     return kinetic_energy(scene, velocities, masses) + potential
 
 
@@ -146,7 +151,8 @@ class World:
     def apply_impulse(self, body: int | str, impulse, point=None) -> None:
         """Give a moving body (index or name) the impulse (N s, world axes) at ``point`` (world
         coordinates; default its centre of mass): its velocity changes by impulse / m and its
-        angular velocity by (point - centre) x impulse / I."""
+        angular velocity by (point - centre) x impulse / I, and by the joint impulses that keep
+        its joints' d' (runtime.solve.linked_forces)."""
         k = self.index(body)
         b = self.scene.bodies[k]
         if b.fixed:
@@ -159,8 +165,13 @@ class World:
         )
         if not (np.all(np.isfinite(p)) and np.all(np.isfinite(r))):
             raise ValueError(f"impulse and point must be finite, got {impulse!r}, {point!r}")
+        before = self.velocities.copy()
         self.velocities[k, :2] += p / b.mass
         self.velocities[k, 2] += (r[0] * p[1] - r[1] * p[0]) / b.inertia
+        if self.stepper.links is not None:  # the body's joints pass the impulse on
+            self.velocities = self.stepper.links.held_velocities(
+                self.poses, before, self.velocities
+            )
         self._changed()
 
     def _changed(self) -> None:

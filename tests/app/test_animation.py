@@ -55,6 +55,27 @@ def test_the_view_frames_every_body_over_its_whole_path(fall):
         assert 2 * view.half_y < 2.1 / (1 - 2 * animation.MARGIN) * max(1.0, 1 / aspect) + 1e-9
 
 
+def test_a_pendulum_is_drawn_with_its_string_and_pivot_in_view(monkeypatch):
+    """A disc on a distance joint from a pivot 1 m above it: the view holds the pivot, and the
+    frame differs from the same frame without the joint by a vertical line (the string)."""
+    scene = runtime.scene_from_dict(
+        {"body": [{"name": "bob", "mass": 1.0, "position": [0.0, -1.0],
+                   "shape": {"type": "disc", "radius": 0.1}}],
+         "joint": [{"type": "distance", "body1": "bob", "body2": "world",
+                    "anchor2": [0.0, 0.0]}]}
+    )  # fmt: skip
+    run = runtime.simulate(scene, 0.01, 1e-3)
+    view = animation.scene_view(scene, np.asarray(run.poses))
+    assert view.centre[1] + view.half_y > 0.0  # the pivot at y = 0
+    look = Look(200, 200, dpi=72, fps=100)
+    monkeypatch.setattr(animation, "scene_view", lambda *args: view)
+    drawn = next(animation.render_frames(scene, run, look)).astype(int)
+    scene.joints = []
+    bare = next(animation.render_frames(scene, run, look)).astype(int)
+    rows, columns = np.nonzero(np.abs(drawn - bare).sum(axis=2) > 60)
+    assert np.ptp(rows) > 0.3 * look.height and np.ptp(columns) <= 3, (np.ptp(rows), columns)
+
+
 def test_size_dpi_and_frame_rate_are_those_asked_for(fall, tmp_path):
     scene, run = fall
     for look in (Look(320, 200, dpi=72, fps=10), Look(200, 320, dpi=150, fps=100)):

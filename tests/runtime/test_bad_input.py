@@ -109,6 +109,20 @@ def _moving(name: str, shape: str, position: str, extra: str = "") -> str:
 
 
 GRAIN = '{ type = "disc", radius = 1e-4 }'
+JOINT = """[[joint]]
+type = "{type}"
+body1 = "disc"
+body2 = "{body2}"
+anchor1 = [0.0, 0.0]
+anchor2 = {anchor2}
+"""
+SPRING = """[[spring]]
+body1 = "disc"
+body2 = "world"
+rest_length = 0.2
+stiffness = {stiffness}
+damping = {damping}
+"""
 
 SCENE_CASES: list[Case] = [
     # unknown keys
@@ -129,23 +143,59 @@ SCENE_CASES: list[Case] = [
     Case("unsupported", "friction on a body", "friction = 0.5", scene_text(friction="0.5"),
          ("body 'disc' (#2): field 'friction'", "friction is not supported yet: contacts are "
           "frictionless", "remove this key")),
-    Case("unsupported", "a joint table", '[[joint]] bodies = ["floor", "disc"]',
-         scene_text() + '[[joint]]\nbodies = ["floor", "disc"]\n',
-         ("bad.toml: field 'joint': joints are not supported yet",)),
-    Case("unsupported", "a spring table", '[[spring]] stiffness = 100.0',
-         scene_text() + "[[spring]]\nstiffness = 100.0\n",
-         ("field 'spring': springs are not supported yet",)),
-    Case("unsupported", "damping on a body", "linear_damping = 0.1",
-         scene_text(linear_damping="0.1"),
-         ("field 'linear_damping'", "damping is not supported yet")),
-    Case("unsupported", "mutual gravity", "[scene] mutual_gravity = true",
-         scene_text(scene="mutual_gravity = true"),
-         ("[scene]: field 'mutual_gravity'", "gravity is the uniform [scene] gravity")),
     Case("unsupported", "another engine's word for restitution", "bounciness = 0.5",
          scene_text(bounciness="0.5"), ("field 'bounciness'", "did you mean 'restitution'?")),
     Case("unsupported", "another engine's shape type", 'shape = { type = "circle", radius = 0.1 }',
          scene_text(shape='{ type = "circle", radius = 0.1 }'),
          ("field 'shape.type'", "unknown shape type 'circle'; use disc")),
+    # joints, springs, damping, mutual gravity (issue #16)
+    Case("links", "a joint to a body that is not there", '[[joint]] body2 = "rope"',
+         scene_text() + JOINT.format(type="pin", body2="rope", anchor2="[0.0, 0.5]"),
+         ("joint #1: field 'body2'", "no body named 'rope'")),
+    Case("links", "a joint of a body with itself", '[[joint]] body1 = body2 = "disc"',
+         scene_text() + JOINT.format(type="pin", body2="disc", anchor2="[0.0, 0.0]"),
+         ("joint #1: field 'body2'", "links the body to itself")),
+    Case("links", "a joint between two fixed ends", '[[joint]] body1 = "floor", body2 = "world"',
+         scene_text() + JOINT.replace('"disc"', '"floor"').format(
+             type="pin", body2="world", anchor2="[0.0, 0.0]"),
+         ("joint #1: field 'body2'", "both ends are fixed")),
+    Case("links", "unknown key in a joint", '[[joint]] bodies = ["floor", "disc"]',
+         scene_text() + '[[joint]]\nbodies = ["floor", "disc"]\n',
+         ("joint #1: field 'bodies'", "unknown key")),
+    Case("links", "unknown joint type", '[[joint]] type = "hinge"',
+         scene_text() + JOINT.format(type="hinge", body2="world", anchor2="[0.0, 0.5]"),
+         ("joint #1: field 'type'", "unknown joint type 'hinge'")),
+    Case("links", "a pin whose anchors are apart", '[[joint]] type = "pin", anchor2 = [0, 1]',
+         scene_text() + JOINT.format(type="pin", body2="world", anchor2="[0.0, 1.0]"),
+         ("joint #1: field 'anchor2'", "0.5 m apart at t = 0")),
+    Case("links", "a motor on a joint", "motor = 1.0",
+         scene_text() + JOINT.format(type="pin", body2="world", anchor2="[0.0, 0.5]")
+         + "motor = 1.0\n", ("joint #1: field 'motor'", "motors are not supported yet")),
+    Case("links", "negative spring stiffness", "[[spring]] stiffness = -5.0",
+         scene_text() + SPRING.format(stiffness="-5.0", damping="0.0"),
+         ("spring #1: field 'stiffness'", "must be >= 0, got -5.0")),
+    Case("links", "NaN spring damping", "[[spring]] damping = nan",
+         scene_text() + SPRING.format(stiffness="5.0", damping="nan"),
+         ("spring #1: field 'damping'", "must be finite, got nan")),
+    Case("links", "spring without a stiffness", "[[spring]] (no stiffness)",
+         scene_text() + SPRING.format(stiffness="5.0", damping="0.0").replace(
+             "stiffness = 5.0\n", ""),
+         ("spring #1: field 'stiffness'", "missing required field")),
+    Case("links", "[spring] instead of [[spring]]", "[spring]",
+         scene_text() + "[spring]\nstiffness = 5.0\n",
+         ("field 'spring'", "write [[spring]], not [spring]")),
+    Case("links", "negative linear damping", "linear_damping = -0.1",
+         scene_text(linear_damping="-0.1"),
+         ("body 'disc' (#2): field 'linear_damping'", "must be >= 0, got -0.1")),
+    Case("links", "infinite angular damping", "angular_damping = inf",
+         scene_text(angular_damping="inf"),
+         ("body 'disc' (#2): field 'angular_damping'", "must be finite, got inf")),
+    Case("links", "mutual gravity as a flag", "[scene] mutual_gravity = true",
+         scene_text(scene="mutual_gravity = true"),
+         ("[scene]: field 'mutual_gravity'", "expected a number, got the boolean true")),
+    Case("links", "negative mutual gravity", "[scene] mutual_gravity = -1.0",
+         scene_text(scene="mutual_gravity = -1.0"),
+         ("[scene]: field 'mutual_gravity'", "must be >= 0, got -1.0")),
     # missing fields
     Case("missing fields", "shape without a type", "shape = { radius = 0.1 }",
          scene_text(shape="{ radius = 0.1 }"),
@@ -463,7 +513,9 @@ def scene_message(case: Case, directory: Path) -> str:
 def test_bad_scene_file_is_refused_naming_file_body_and_field(tmp_path, case):
     message = scene_message(case, tmp_path)
     assert message.startswith("bad.toml: ") and "\n" not in message, message
-    located = re.search(r"body (#\d+|'[^']*' \(#\d+\))|\[scene\]|\[simulation\]", message)
+    located = re.search(
+        r"body (#\d+|'[^']*' \(#\d+\))|\[scene\]|\[simulation\]|(joint|spring) #\d+", message
+    )
     file_level = ("TOML", "UTF-8", "field 'b", "cannot read the file")
     top_level = message.startswith("bad.toml: field '")  # a key outside every table
     assert located or top_level or any(word in message for word in file_level), message

@@ -36,6 +36,7 @@ TOUCHING = {
     "box_on_floor": [("box", "floor")],
     "ball_drop": [],
     "wall_shot": [],
+    "newtons_cradle": [("disc2", "disc3"), ("disc3", "disc4"), ("disc4", "disc5")],
 }
 
 

@@ -24,17 +24,26 @@ _finders: OrderedDict = OrderedDict()
 
 
 def finder_for(
-    shapes: Sequence[Shape], fixed: Sequence[bool], groups: Sequence[int] | None = None
+    shapes: Sequence[Shape],
+    fixed: Sequence[bool],
+    groups: Sequence[int] | None = None,
+    apart: Sequence[tuple[int, int]] = (),
 ) -> ContactFinder:
-    """A contact finder for these bodies (and collision groups, see
+    """A contact finder for these bodies (and collision groups and pairs kept ``apart``, see
     :class:`~runtime.collide.finder.ContactFinder`), reused while they are among the last KEEP
     asked for."""
     flags = check_bodies(shapes, fixed)
     grouped = None if groups is None else check_groups(groups, len(flags))
-    key = (tuple(map(id, shapes)), flags.tobytes(), None if grouped is None else grouped.tobytes())
+    apart = tuple(apart)
+    key = (
+        tuple(map(id, shapes)),
+        flags.tobytes(),
+        None if grouped is None else grouped.tobytes(),
+        apart,
+    )
     found = _finders.get(key)
     if found is None:
-        found = ContactFinder(shapes, flags, grouped)
+        found = ContactFinder(shapes, flags, grouped, apart)
         _finders[key] = (found, tuple(shapes))  # the shapes too: their ids stay theirs
         if len(_finders) > KEEP:
             _finders.popitem(last=False)

@@ -94,6 +94,16 @@ def _kernel(case: str):
         ) from exc
 
 
+def _pair_codes(pairs: Sequence[tuple[int, int]], n: int) -> np.ndarray:
+    """Sorted codes min * n + max of body pairs (the pairs kept apart), checked."""
+    codes = []
+    for i, j in pairs:
+        if not (0 <= i < n and 0 <= j < n and i != j):
+            raise ValueError(f"a pair kept apart must be two different bodies of {n}: {(i, j)}")
+        codes.append(min(i, j) * n + max(i, j))
+    return np.unique(np.array(codes, dtype=np.int64))
+
+
 def check_groups(groups, n: int) -> np.ndarray:
     """``groups`` as an (n,) int64 array of collision groups (integers >= -1), after checking
     it; None gives an empty array (no groups: every pair may touch)."""
@@ -119,14 +129,19 @@ class ContactFinder:
     ``groups``: a collision group per body (integers >= -1; default None: one group). Two
     bodies touch only if their groups are equal or one of them is -1: N copies of a scene
     stepped as one (runtime.step.ensemble) never see each other, and share the fixed bodies
-    of group -1."""
+    of group -1. ``apart``: pairs of bodies (i, j) that never touch (bodies a joint links)."""
 
     def __init__(
-        self, shapes: Sequence[Shape], fixed: Sequence[bool], groups: Sequence[int] | None = None
+        self,
+        shapes: Sequence[Shape],
+        fixed: Sequence[bool],
+        groups: Sequence[int] | None = None,
+        apart: Sequence[tuple[int, int]] = (),
     ) -> None:
         flags = check_bodies(shapes, fixed)
         self.n = len(shapes)
         self.groups = check_groups(groups, self.n)
+        self.apart = _pair_codes(apart, self.n)
         self.cases = frozenset(possible_cases(shapes, flags))
         self.tables = scene_tables(shapes, flags)
         self.keys = ContactKeys.of(shapes)  # contact identity across steps
@@ -182,6 +197,7 @@ class ContactFinder:
                 widen,
                 allow,
                 self._unit_groups,
+                self.apart,
                 rows,
                 start,
                 body,

@@ -119,15 +119,25 @@ def _by_body(pairs, owner):
 
 
 @njit
+def _kept_apart(apart, a, b, n):
+    """Whether bodies a and b (of n) are a pair of the sorted codes ``apart``."""
+    code = min(a, b) * n + max(a, b)
+    k = np.searchsorted(apart, code)
+    return k < apart.size and apart[k] == code
+
+
+@njit
 def find_candidates(
-    poses, base, margins, allowed, groups, rows, start, body, owner, compound, cand, kernel_inputs
-):
+    poses, base, margins, allowed, groups, apart, rows, start, body, owner, compound, cand,
+    kernel_inputs,
+):  # fmt: skip
     """Broad phase, then the candidates of every pair of ``allowed`` units (of one collision
     group, or one of group -1, if ``groups`` is not empty: runtime.collide.broadphase) into
     ``cand`` (a row per candidate, runtime.collide.candidates.COLUMNS) and the
     ``kernel_inputs`` (:func:`_kernel_inputs`).  A unit is a body or a part of a compound body
     (``owner``: the body of each; ``poses``, ``margins``, ``allowed``, ``groups``: per unit,
-    those of its body); with ``compound``, pairs of one body's parts are skipped and the
+    those of its body); pairs of bodies whose code min * n + max is in ``apart`` (sorted) are
+    skipped (bodies a joint links); with ``compound``, pairs of one body's parts are skipped and the
     candidates are grouped by the pair of bodies (their PAIR column).  Returns their number
     (more than ``cand`` holds: grow it and call again), or -1 - u if the pose or margin of
     unit u is not finite."""
@@ -153,6 +163,8 @@ def find_candidates(
     for p in range(len(pairs)):
         i, j = pairs[p, 0], pairs[p, 1]
         if not (allowed[i] and allowed[j]):
+            continue
+        if apart.size and _kept_apart(apart, owner[i], owner[j], owner[-1] + 1):
             continue
         slack = SCREEN_SLACK * (body[i, RADIUS] + body[j, RADIUS])
         oix, oiy = poses[i, 0] - poses[j, 0], poses[i, 1] - poses[j, 1]

@@ -121,7 +121,9 @@ def check_overlaps(scene: Scene) -> None:
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         found = scene.contacts()
-        deep = deepest_overlap(scene.shapes, scene.poses(), scene.fixed, scene.overlap_tolerance)
+        deep = deepest_overlap(
+            scene.shapes, scene.poses(), scene.fixed, scene.overlap_tolerance, scene.joined_pairs
+        )
     for k, gap in enumerate(found.gap.tolist()):
         if gap < -scene.overlap_tolerance or not math.isfinite(gap):
             amount = f"by {-gap:.6g} m" if math.isfinite(gap) else "(coincident features)"

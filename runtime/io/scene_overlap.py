@@ -15,6 +15,7 @@ body entirely behind a one-sided wall is not in contact with it).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -95,15 +96,23 @@ def _depth_open(shape: Any, p: np.ndarray) -> np.ndarray:
 
 
 def deepest_overlap(
-    shapes: list[Any], poses: np.ndarray, fixed: list[bool], tolerance: float
+    shapes: list[Any],
+    poses: np.ndarray,
+    fixed: list[bool],
+    tolerance: float,
+    apart: Sequence[tuple[int, int]] = (),
 ) -> tuple[int, int, float, tuple[float, float]] | None:
     """The first pair ``(i, j, depth, world point)`` where a sample point of body ``i`` lies
-    more than ``tolerance`` inside body ``j`` (the deepest such point), or None."""
+    more than ``tolerance`` inside body ``j`` (the deepest such point), or None; pairs
+    ``apart`` (i < j: bodies a joint links, which never touch) are not checked."""
+    skip = set(apart)
     radii = np.array([float(s.bounding_radius) for s in shapes])
     centres = np.asarray(poses, dtype=float)[:, :2]
     first, second = candidate_pairs(centres, radii, np.asarray(fixed, dtype=bool), tolerance)
     cache: dict[int, np.ndarray] = {}
     for a, b in zip(first.tolist(), second.tolist(), strict=True):
+        if (a, b) in skip:
+            continue
         for i, j in ((a, b), (b, a)):
             if i not in cache:
                 cache[i] = _world(samples(shapes[i]), poses[i])

@@ -222,6 +222,15 @@ class Scene:
     mutual_gravity: float = 0.0
 
     @property
+    def joined_pairs(self) -> tuple[tuple[int, int], ...]:
+        """The pairs of moving bodies a joint links, (lower, higher) index: they never touch
+        each other (as Box2D's joints by default), so a pinned chain's links may overlap."""
+        pairs = {
+            (min(j.body1, j.body2), max(j.body1, j.body2)) for j in self.joints if j.body2 >= 0
+        }
+        return tuple(sorted(pairs))
+
+    @property
     def linked(self) -> bool:
         """Whether anything but gravity and contacts acts: joints, springs, damping or mutual
         gravity (the engine then takes the general path, runtime.solve.linked_forces)."""
@@ -274,7 +283,7 @@ class Scene:
 
     def contact_finder(self) -> ContactFinder:
         """The contact finder of the bodies as they are now (kept while they stay the same)."""
-        return _contacts.finder_for(self.shapes, self.fixed, self.groups)
+        return _contacts.finder_for(self.shapes, self.fixed, self.groups, self.joined_pairs)
 
     def contacts(
         self,

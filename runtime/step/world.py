@@ -133,6 +133,8 @@ class World:
         self._moving = np.flatnonzero(~np.asarray(scene.fixed, dtype=bool))
         self._inner = np.array([inner_radius(s) for s in scene.shapes])
         self._hollow = np.asarray(scene.fixed, dtype=bool) | (self._inner == 0)
+        for pair in scene.joined_pairs:  # linked bodies may overlap: not checked by centres
+            self._hollow[list(pair)] = True
 
     # -- state -----------------------------------------------------------------------------
 

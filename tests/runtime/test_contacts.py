@@ -477,6 +477,7 @@ def test_narrow_phase_only_sees_broad_phase_pairs():
         np.zeros(5),
         everyone,
         no_groups,
+        no_groups,  # no pairs kept apart
         rows_,
         start,
         body,

@@ -72,6 +72,7 @@ BODY_KEYS = (
     "velocity",
     "angular_velocity",
     "restitution",
+    "friction",
 )
 
 # Shape type -> its parameters and their kinds: "positive", "nonnegative", "finite" numbers,
@@ -252,6 +253,7 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
         "position": table.vector("position", (0.0, 0.0) if fixed else REQUIRED),
         "angle": _read_angle(table),
         "restitution": table.number("restitution", 0.0, check="unit"),
+        "friction": table.number("friction", 0.0, check="nonnegative"),
     }
     if fixed:
         for key in ("mass", "density", "inertia", "center_of_mass"):

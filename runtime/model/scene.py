@@ -58,6 +58,7 @@ class Body:
     fixed: bool = False
     restitution: float = 0.0
     origin: Vec2 = (0.0, 0.0)
+    friction: float = 0.0  # Coulomb coefficient mu >= 0 (sticking and sliding), fixed bodies too
 
     def __post_init__(self) -> None:
         self.position = _pair(self.position)
@@ -65,6 +66,11 @@ class Body:
         self.origin = _pair(self.origin)
         self.angle = float(self.angle)
         self.angular_velocity = float(self.angular_velocity)
+        self.friction = float(self.friction)
+        if not (math.isfinite(self.friction) and self.friction >= 0):
+            raise ValueError(
+                f"body {self.name!r}: friction must be finite and >= 0, got {self.friction}"
+            )
         if self.fixed:
             if self.velocity != (0.0, 0.0) or self.angular_velocity != 0.0:
                 raise ValueError(f"fixed body {self.name!r} must have zero velocity")
@@ -98,6 +104,7 @@ class Body:
         fixed: bool = False,
         restitution: float = 0.0,
         center_of_mass: Sequence[float] | None = None,
+        friction: float = 0.0,
     ) -> Body:
         """A body from a shape in its own coordinates.
 
@@ -118,8 +125,9 @@ class Body:
                     "is infinite); remove it"
                 )
             return cls(
-                name, shape, position=position, angle=angle, fixed=True, restitution=restitution
-            )
+                name, shape, position=position, angle=angle, fixed=True,
+                restitution=restitution, friction=friction,
+            )  # fmt: skip
         if (mass is None) == (density is None):
             raise ValueError(f"body {name!r}: give exactly one of mass and density")
         problem = None if center_of_mass is None else center_of_mass_error(shape, center_of_mass)
@@ -146,6 +154,7 @@ class Body:
             angular_velocity=angular_velocity,
             restitution=restitution,
             origin=(0.0 - float(offset[0]), 0.0 - float(offset[1])),
+            friction=friction,
         )
 
     @property
@@ -246,6 +255,11 @@ class Scene:
         """(n, 3) array ``(1/m, 1/m, 1/I)`` per body; zeros for fixed bodies."""
         rows = [(b.inverse_mass, b.inverse_mass, b.inverse_inertia) for b in self.bodies]
         return np.array(rows, dtype=float).reshape(-1, 3)
+
+    @property
+    def friction(self) -> np.ndarray:
+        """(n,) Coulomb coefficient per body; a contact's is sqrt(mu1 mu2)."""
+        return np.array([b.friction for b in self.bodies], dtype=float)
 
     def contact_cases(self) -> set[str]:
         """The contact cases (generated kernels) this scene can produce."""

@@ -42,6 +42,7 @@ from runtime.solve.rows import RowEvaluator, Rows
 from runtime.step.classify import LIFTING, RESTING, Bodies, Frame, Limits, make_frame, member
 from runtime.step.collision import Collision
 from runtime.step.events import EventSearch
+from runtime.step.friction_stage import friction_stage
 from runtime.step.integrators import FIXED_STEP, Trajectory
 from runtime.step.pair_scan import IslandsMeet
 from runtime.step.resting import settle
@@ -93,6 +94,9 @@ class Stepper:
         self.collision = Collision(scene)
         self.evaluator = RowEvaluator(scene.contact_cases(), self.fixed)
         self.forces = ContactForces(scene, stabilisation)
+        self.friction = friction_stage(scene, self.fixed, stabilisation)  # None: frictionless
+        if self.friction is not None:
+            self.evaluator, self.forces = self.friction.evaluator, self.friction.forces
         self.with_gaps = stabilisation is not None
         self.recovery = 0.0 if stabilisation is None else 0.5 * stabilisation.damping
         self.resting_speed = resting_speed
@@ -110,7 +114,11 @@ class Stepper:
         self.evaluations = 0  # right-hand-side evaluations (integrator stages)
         self.ovals = self.collision.finder.has_ovals
         self.compiled = (
-            settings.COMPILED and method in FIXED_STEP and stabilisation is None and not self.ovals
+            settings.COMPILED
+            and method in FIXED_STEP
+            and stabilisation is None
+            and not self.ovals
+            and self.friction is None
         )
         if self.compiled:
             # imported here: they compile in every contact case (runtime/solve/kernel_set.py);
@@ -318,6 +326,10 @@ class Stepper:
                 frame, labels = self._widen(q, end[0], frame, limits, active)
             trajectory = _IslandTrajectories(self, trial, resting, labels, split)
             firsts = self.events.first(frame, q, end, remaining, labels, trajectory)
+            if self.friction is not None:  # stick <-> slip, located like impacts
+                found = self.friction.events.first(resting.problem, remaining, labels, trajectory)
+                for g, t in found.items():
+                    firsts[g] = min(firsts.get(g, t), t)
             if not firsts:
                 return end
             events += 1

@@ -57,7 +57,7 @@ class IslandForces:
     acc: np.ndarray
 
 
-def _dense(rows6, body1, body2, local, fixed, width) -> np.ndarray:
+def dense_rows(rows6, body1, body2, local, fixed, width) -> np.ndarray:
     """(K, 6) rows over the pair's bodies as (K, 3 nb) over the island's moving bodies."""
     out = np.zeros((len(rows6), width))
     for side, bodies in ((0, body1), (3, body2)):
@@ -77,8 +77,8 @@ def solve_island(rows, bias, slide, inverse_mass, fixed, free_acc) -> IslandForc
     local = np.zeros(len(fixed), dtype=np.int64)
     local[bodies] = np.arange(bodies.size)
     width = 3 * bodies.size
-    jn = _dense(rows.jacobian, b1, b2, local, fixed, width)
-    jt = _dense(rows.tangent_jacobian, b1, b2, local, fixed, width)
+    jn = dense_rows(rows.jacobian, b1, b2, local, fixed, width)
+    jt = dense_rows(rows.tangent_jacobian, b1, b2, local, fixed, width)
     w = inverse_mass[bodies].ravel()
     a0 = free_acc[bodies].ravel()
     k = len(mu)

@@ -4,7 +4,8 @@ Why a stage of its own: only a scene where some contact can have mu = sqrt(mu1 m
 bodies with friction) needs the tangential rows; every other scene must run exactly as before,
 without importing a friction kernel (issue #15). The stepper asks :func:`friction_stage` once
 and, when it gets a stage, uses its evaluator and forces in place of the frictionless ones and
-adds its events to the impacts' (runtime.step.stepper).
+adds its events to the impacts' and its hold of sticking contacts to the frame's settling
+(runtime.step.stepper).
 """
 
 from __future__ import annotations
@@ -19,6 +20,13 @@ class FrictionStage:
     evaluator: object  # runtime.solve.friction_rows.FrictionRowEvaluator
     forces: object  # runtime.solve.friction.FrictionalForces
     events: object  # runtime.step.friction_events.FrictionEvents
+
+    def hold(self, frame, resting, bodies, solve):
+        """The settled frame with its sticking contacts' residual slip removed
+        (runtime.step.friction_hold)."""
+        from runtime.step.friction_hold import hold_sticking
+
+        return hold_sticking(frame, resting, bodies, solve)
 
 
 def has_friction(scene) -> bool:

@@ -159,6 +159,8 @@ class Stepper:
             done = settle(
                 frame, partial(self.solve, q), self.bodies, limits.creep_speed, self.recovery
             )
+            if self.friction is not None:
+                done = self.friction.hold(*done, self.bodies, partial(self.solve, q))
         self._hold(done[0], active)
         return done
 

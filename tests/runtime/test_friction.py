@@ -154,6 +154,79 @@ def test_a_block_sliding_on_a_floor_stops_after_v0_over_mu_g_at_v0_squared_over_
     assert np.max(np.abs(v[run.t > stop])) < 1e-12  # at rest, and it stays so
 
 
+def test_a_box_tipping_on_its_corner_sticks_until_the_friction_it_needs_reaches_mu_n():
+    """A tall box released on one corner pivots about it (a rod of length L = its diagonal:
+    theta'' = 3 g sin(theta) / (2 L)) while |F| < mu N, F and N the pivot's forces from the
+    centre's acceleration; the stick -> slip instant is located (solve_ivp's event on
+    |F| - mu N, rtol 1e-13). Bounds: RK4's error on this non-polynomial motion at dt = 1 ms,
+    measured 3e-11 rad and 1.3e-10 relative."""
+    a, b, theta0, mu = 0.05, 0.2, 0.1, 0.5
+    d = math.hypot(a, b)
+    L, alpha = 2 * d, math.pi / 2 + theta0 - math.atan2(b, a)
+    scene = scene_from_dict({"body": [
+        {"name": "floor", "fixed": True, "friction": mu,
+         "shape": {"type": "wall", "start": [-3, 0], "end": [3, 0]}},
+        {"name": "box", "shape": {**BLOCK, "width": 2 * a, "height": 2 * b}, "mass": 1.0,
+         "friction": mu, "position": [-d * math.sin(theta0), d * math.cos(theta0)],
+         "angle": alpha},
+    ]})  # fmt: skip
+
+    def pivot(_t, y):
+        return [y[1], 1.5 * G / L * math.sin(y[0])]
+
+    def slips(_t, y):
+        theta, w = y
+        al = 1.5 * G / L * math.sin(theta)
+        ax = L / 2 * (al * math.cos(theta) - w * w * math.sin(theta))
+        ay = -L / 2 * (al * math.sin(theta) + w * w * math.cos(theta))
+        return abs(ax) - mu * (G + ay)
+
+    slips.terminal = True
+    ref = solve_ivp(pivot, (0, 2), [theta0, 0], method="DOP853", rtol=1e-13, atol=1e-15,
+                    events=slips, dense_output=True)  # fmt: skip
+    t_slip = ref.t_events[0][0]
+    run = runtime.simulate(scene, duration=0.6, dt=1e-3)
+    assert abs(run.impact_times[0] / t_slip - 1.0) < 1e-9
+    before = run.t < t_slip
+    turned = run.poses[before, 1, 2] - alpha
+    assert np.max(np.abs(turned - (ref.sol(run.t[before])[0] - theta0))) < 1e-9
+    lean = theta0 + run.poses[:, 1, 2] - alpha
+    corner = run.poses[:, 1, :2] - d * np.column_stack([-np.sin(lean), np.cos(lean)])
+    assert np.max(np.abs(corner[before])) < 1e-10  # it sticks (RK4: 3e-11 rad x 0.2 m)
+    assert np.min(np.abs(corner[run.t > t_slip + 0.01, 0])) > 1e-6  # then it slides
+
+
+@pytest.mark.parametrize("phi", [0.3, 0.7, 1.0, 1.2])
+@pytest.mark.parametrize("speed", [-2.0, 2.0])
+def test_a_painleve_configuration_ends_in_a_named_error(phi, speed):
+    """A rod sliding on its end at angle phi, mu = 2.5: the folded row's A = J_n W (J_n - s mu
+    J_t)^T (rows written here from the geometry) is negative with b = -g < 0, so no normal
+    force obeys Coulomb's law (Painleve's paradox): the run stops with a SimulationError that
+    says so; where A > 0 it runs."""
+    mu, half, thick = 2.5, 0.5, 0.01
+    c, s = math.cos(phi), math.sin(phi)
+    centre = np.array([half * c - thick * s, half * s + thick * c])  # its corner at the origin
+    scene = scene_from_dict({"body": [
+        {"name": "floor", "fixed": True, "friction": mu,
+         "shape": {"type": "wall", "start": [-3, 0], "end": [3, 0]}},
+        {"name": "rod", "shape": {**BLOCK, "width": 2 * half, "height": 2 * thick}, "mass": 1.0,
+         "friction": mu, "position": centre.tolist(), "angle": phi, "velocity": [speed, 0.0]},
+    ]})  # fmt: skip
+    inertia = ((2 * half) ** 2 + (2 * thick) ** 2) / 12
+    lever = -centre
+    n, t = np.array([0.0, 1.0]), np.array([-1.0, 0.0])
+    row_n = np.array([*n, lever[0] * n[1] - lever[1] * n[0]])
+    row_t = np.array([*t, lever[0] * t[1] - lever[1] * t[0]])
+    slide = math.copysign(1.0, -speed)  # v_t = u . t
+    A = row_n @ ((row_n - slide * mu * row_t) / np.array([1.0, 1.0, inertia]))
+    if A > 0.1:
+        runtime.simulate(scene, duration=0.01, dt=1e-3)
+        return
+    assert A < -0.1  # the cases are clear of A = 0
+    with pytest.raises(runtime.SimulationError, match="Painleve configuration"):
+        runtime.simulate(scene, duration=0.01, dt=1e-3)
+
+
 # -- a disc ------------------------------------------------------------------------------------
 
 

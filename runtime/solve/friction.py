@@ -25,8 +25,9 @@ import numpy as np
 
 from runtime import settings
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution
-from runtime.solve.friction_lcp import solve_island
+from runtime.solve.friction_lcp import painleve, solve_island
 from runtime.solve.friction_rows import FrictionRows
+from runtime.solve.lemke import SOLVED
 
 
 @dataclass
@@ -102,17 +103,21 @@ class FrictionalForces(ContactForces):
         if self.stabilisation is not None:
             k = self.stabilisation
             bias = bias + k.damping * rows.gap_velocity + k.stiffness * rows.gap
+        ends = np.ascontiguousarray(np.column_stack([rows.body1, rows.body2]))
+        jac, tangent_jac = rows.jacobian, rows.tangent_jacobian
+        slack = np.zeros(m)
+        slide = slide.astype(float)
         for g in np.flatnonzero(with_friction):
-            part = slice(int(offsets[g]), int(offsets[g + 1]))
-            done = solve_island(
-                rows.take(part), bias[part], slide[part], self.inverse_mass, self.fixed,
-                self.free_acceleration,
+            a, b = int(offsets[g]), int(offsets[g + 1])
+            status = solve_island(
+                jac[a:b], tangent_jac[a:b], ends[a:b], bias[a:b], rows.tangent_bias[a:b],
+                rows.mu[a:b], slide[a:b], self.inverse_mass, self.fixed, self.free_acceleration,
+                forces[a:b], tangent[a:b], slack[a:b], a_t[a:b], rates[a:b], acc,
             )  # fmt: skip
-            acc[done.bodies] += done.acc - self.free_acceleration[done.bodies]
-            forces[part], rates[part], tangent[part] = done.normal, done.free_rates, done.tangent
-            scale = max(float(np.max(np.abs(done.free_rates), initial=0.0)), 1.0)
-            slips[part] = done.slack > settings.SLIP_ONSET * scale
-            a_t[part] = done.tangent_acceleration
+            if status != SOLVED:
+                raise painleve(rows.mu[a:b], slide[a:b])
+            scale = max(float(np.max(np.abs(rates[a:b]), initial=0.0)), 1.0)
+            slips[a:b] = slack[a:b] > settings.SLIP_ONSET * scale
         return FrictionSolution(acc, forces, rates, tangent, a_t, slips)
 
 

@@ -29,12 +29,11 @@ configuration: :class:`FrictionInconsistent`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from runtime.solve import lemke
+from runtime.compiled import njit
 from runtime.solve.lcp_problem import ContactSolverError
+from runtime.solve.lemke import SOLVED, lemke
 
 
 class FrictionInconsistent(ContactSolverError):
@@ -42,78 +41,110 @@ class FrictionInconsistent(ContactSolverError):
     whose friction would have to pull it into the other body)."""
 
 
-@dataclass(frozen=True)
-class IslandForces:
-    """The solved island: normal and tangential forces, the slack lambda (0 unless a sticking
-    contact slips), the tangential accelerations a_t, the free rates b_n, and the accelerations
-    ``acc`` (nb, 3) of the island's moving bodies ``bodies``."""
-
-    normal: np.ndarray
-    tangent: np.ndarray
-    slack: np.ndarray
-    tangent_acceleration: np.ndarray
-    free_rates: np.ndarray
-    bodies: np.ndarray
-    acc: np.ndarray
-
-
-def dense_rows(rows6, body1, body2, local, fixed, width) -> np.ndarray:
-    """(K, 6) rows over the pair's bodies as (K, 3 nb) over the island's moving bodies."""
-    out = np.zeros((len(rows6), width))
-    for side, bodies in ((0, body1), (3, body2)):
-        keep = np.flatnonzero(~fixed[bodies])
-        cols = 3 * local[bodies[keep]][:, None] + np.arange(3)
-        out[keep[:, None], cols] += rows6[keep, side : side + 3]
-    return out
+@njit
+def _coupling(row, b_row, col, b_col, inv_mass, fixed, k, j):
+    """sum over the bodies shared by row k and column j of row_k(body) W(body) col_j(body)."""
+    s = 0.0
+    for side_k in range(2):
+        body = b_row[k, side_k]
+        if fixed[body]:
+            continue
+        for side_l in range(2):
+            if b_col[j, side_l] != body:
+                continue
+            for c in range(3):
+                s += row[k, 3 * side_k + c] * inv_mass[body, c] * col[j, 3 * side_l + c]
+    return s
 
 
-def solve_island(rows, bias, slide, inverse_mass, fixed, free_acc) -> IslandForces:
-    """The forces of one island's contacts (``rows``: FrictionRows of the island, ``bias``
-    its normal bias (stabilised if so), ``slide`` each contact's mode, 0 for a sticking or a
-    frictionless one)."""
-    b1, b2, mu = rows.body1, rows.body2, rows.mu
-    ends = np.concatenate([b1, b2])
-    bodies = np.unique(ends[~fixed[ends]])
-    local = np.zeros(len(fixed), dtype=np.int64)
-    local[bodies] = np.arange(bodies.size)
-    width = 3 * bodies.size
-    jn = dense_rows(rows.jacobian, b1, b2, local, fixed, width)
-    jt = dense_rows(rows.tangent_jacobian, b1, b2, local, fixed, width)
-    w = inverse_mass[bodies].ravel()
-    a0 = free_acc[bodies].ravel()
-    k = len(mu)
-    columns = jn - (slide * mu)[:, None] * jt
+@njit
+def _add_forces(rows, ends, inv_mass, forces, acc):
+    """acc += W J^T f over the rows' two bodies."""
+    for k in range(forces.size):
+        for side in range(2):
+            body = ends[k, side]
+            for c in range(3):
+                acc[body, c] += inv_mass[body, c] * rows[k, 3 * side + c] * forces[k]
+
+
+@njit
+def _rates(rows, ends, bias, acc, out):
+    """out = J acc + bias."""
+    for k in range(bias.size):
+        s = bias[k]
+        for side in range(2):
+            for c in range(3):
+                s += rows[k, 3 * side + c] * acc[ends[k, side], c]
+        out[k] = s
+
+
+@njit
+def solve_island(
+    jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc,
+    normal, tangent, slack, tangent_acc, rates, acc,
+):  # fmt: skip
+    """The forces of one island's K contacts (``ends`` (K, 2): body 1 and 2; ``bias`` the normal
+    bias, stabilised if so; ``slide`` each contact's mode, 0 for a sticking or a frictionless
+    one), written to ``normal``, ``tangent``, ``slack``, ``tangent_acc`` (a_t), ``rates`` (the
+    free d'', b_n); ``acc`` (n, 3) gets the forces' accelerations added. Returns Lemke's status.
+    """
+    k = mu.size
+    cols = jac.copy()  # the normal columns, with sliding contacts' friction folded in
+    for i in range(k):
+        for c in range(6):
+            cols[i, c] -= slide[i] * mu[i] * tangent_jac[i, c]
     stick = np.flatnonzero((mu > 0) & (slide == 0))
     s = stick.size
-    jts = jt[stick]
-    b_n = jn @ a0 + bias
-    b_s = jts @ a0 + rows.tangent_bias[stick]
-    M = np.zeros((k + 3 * s, k + 3 * s))
-    q = np.concatenate([b_n, b_s, -b_s, np.zeros(s)])
-    A_nn, A_ns = (jn * w) @ columns.T, (jn * w) @ jts.T
-    A_sn, A_ss = (jts * w) @ columns.T, (jts * w) @ jts.T
-    plus, minus, slack = slice(k, k + s), slice(k + s, k + 2 * s), slice(k + 2 * s, k + 3 * s)
-    M[:k, :k], M[:k, plus], M[:k, minus] = A_nn, A_ns, -A_ns
-    M[plus, :k], M[plus, plus], M[plus, minus] = A_sn, A_ss, -A_ss
-    M[minus, :k], M[minus, plus], M[minus, minus] = -A_sn, -A_ss, A_ss
-    eye = np.eye(s)
-    M[plus, slack], M[minus, slack] = eye, eye
-    M[slack, plus], M[slack, minus] = -eye, -eye
-    M[k + 2 * s + np.arange(s), stick] = mu[stick]
-    z, status = lemke.solve(M, q)
-    if status != lemke.SOLVED:
-        sliding = np.flatnonzero(slide != 0)
-        raise FrictionInconsistent(
-            f"no contact forces obey Coulomb friction for {k} contact(s) ({sliding.size} "
-            f"sliding, mu up to {float(np.max(mu, initial=0.0)):.3g}): a Painleve "
-            "configuration (Lemke's method ended on a ray)",
-            sliding.tolist() or list(range(k)),
-        )
-    normal = z[:k]
-    tangent = -slide * mu * normal
-    tangent[stick] = z[plus] - z[minus]
-    lam = np.zeros(k)
-    lam[stick] = z[slack]
-    acc = a0 + w * (jn.T @ normal + jt.T @ tangent)
-    a_t = jt @ acc + rows.tangent_bias
-    return IslandForces(normal, tangent, lam, a_t, b_n, bodies, acc.reshape(-1, 3))
+    jts = tangent_jac[stick]
+    ends_s = ends[stick]
+    _rates(jac, ends, bias, free_acc, rates)
+    b_s = np.empty(s)
+    _rates(jts, ends_s, tangent_bias[stick], free_acc, b_s)
+    n = k + 3 * s
+    M = np.zeros((n, n))
+    q = np.zeros(n)
+    for i in range(k):
+        q[i] = rates[i]
+        for j in range(k):
+            M[i, j] = _coupling(jac, ends, cols, ends, inv_mass, fixed, i, j)
+        for j in range(s):
+            x = _coupling(jac, ends, jts, ends_s, inv_mass, fixed, i, j)
+            M[i, k + j], M[i, k + s + j] = x, -x
+    for i in range(s):
+        q[k + i], q[k + s + i] = b_s[i], -b_s[i]
+        for j in range(k):
+            x = _coupling(jts, ends_s, cols, ends, inv_mass, fixed, i, j)
+            M[k + i, j], M[k + s + i, j] = x, -x
+        for j in range(s):
+            x = _coupling(jts, ends_s, jts, ends_s, inv_mass, fixed, i, j)
+            M[k + i, k + j], M[k + i, k + s + j] = x, -x
+            M[k + s + i, k + j], M[k + s + i, k + s + j] = -x, x
+        M[k + i, k + 2 * s + i] = M[k + s + i, k + 2 * s + i] = 1.0
+        M[k + 2 * s + i, k + i] = M[k + 2 * s + i, k + s + i] = -1.0
+        M[k + 2 * s + i, stick[i]] = mu[stick[i]]
+    z = np.zeros(n)
+    status = lemke(M, q, z)
+    if status != SOLVED:
+        return status
+    for i in range(k):
+        normal[i] = z[i]
+        tangent[i] = -slide[i] * mu[i] * z[i]
+        slack[i] = 0.0
+    for i in range(s):
+        tangent[stick[i]] = z[k + i] - z[k + s + i]
+        slack[stick[i]] = z[k + 2 * s + i]
+    _add_forces(jac, ends, inv_mass, normal, acc)
+    _add_forces(tangent_jac, ends, inv_mass, tangent, acc)
+    _rates(tangent_jac, ends, tangent_bias, acc, tangent_acc)
+    return status
+
+
+def painleve(mu: np.ndarray, slide: np.ndarray) -> FrictionInconsistent:
+    """The error of an island whose friction LCP has no solution found."""
+    sliding = np.flatnonzero(slide != 0)
+    return FrictionInconsistent(
+        f"no contact forces obey Coulomb friction for {mu.size} contact(s) ({sliding.size} "
+        f"sliding, mu up to {float(np.max(mu, initial=0.0)):.3g}): a Painleve "
+        "configuration (Lemke's method ended on a ray)",
+        sliding.tolist() or list(range(mu.size)),
+    )

@@ -23,7 +23,6 @@ from dataclasses import replace
 import numpy as np
 
 from runtime import settings
-from runtime.solve.friction_lcp import dense_rows
 
 
 def hold_sticking(frame, resting, bodies, solve: Callable) -> tuple:
@@ -64,3 +63,13 @@ def hold_sticking(frame, resting, bodies, solve: Callable) -> tuple:
         impact_loss=frame.impact_loss + loss,
     )
     return frame, solve(frame)
+
+
+def dense_rows(rows6, body1, body2, local, fixed, width) -> np.ndarray:
+    """(K, 6) rows over the pair's bodies as (K, 3 nb) over the island's moving bodies."""
+    out = np.zeros((len(rows6), width))
+    for side, bodies in ((0, body1), (3, body2)):
+        keep = np.flatnonzero(~fixed[bodies])
+        cols = 3 * local[bodies[keep]][:, None] + np.arange(3)
+        out[keep[:, None], cols] += rows6[keep, side : side + 3]
+    return out

@@ -141,6 +141,9 @@ STICK_LOCATE = 1e-3  # relative to STICK_SPEED: the |v_t| a located slip -> stic
 SLIP_ONSET = 1e-9  # relative to the problem's scale (largest |b|, or g): a sticking contact
 # whose slack lambda (the tangential acceleration it would take) exceeds this starts to slide;
 # rounding of the Lemke tableau leaves ~1e-15 of it
+IMPACT_ENERGY_SLACK = 1e-12  # relative to the kinetic energy before: a frictional impact whose
+# restitution phase leaves more than this (rounding is ~1e-15) is redone plastic
+# (runtime.solve.friction_impulses: Poisson's restitution with friction can add energy)
 SLIP_TIME = 1e-9  # relative to the step: how closely a stick -> slip transition is bisected in
 # time (a predicate, not a smooth function: runtime.step.friction_events); the state differs
 # from the exact one's by ~ (this x dt)^2 x the change of acceleration, far below the step's error

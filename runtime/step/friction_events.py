@@ -34,9 +34,15 @@ class FrictionEvents:
     """The first friction transition of each island within a trial step."""
 
     def __init__(
-        self, evaluator: FrictionRowEvaluator, forces: FrictionalForces, fixed: np.ndarray
+        self,
+        evaluator: FrictionRowEvaluator,
+        forces: FrictionalForces,
+        fixed: np.ndarray,
+        refresh: Callable,
     ) -> None:
-        self.evaluator, self.forces, self.fixed = evaluator, forces, fixed
+        """``refresh(contacts, poses)``: the contacts with an oval's point found again there
+        (runtime.step.collision.Collision.refresh_ovals), as the trial's right-hand side does."""
+        self.evaluator, self.forces, self.fixed, self.refresh = evaluator, forces, fixed, refresh
         self.with_gaps = forces.stabilisation is not None
 
     def first(
@@ -73,7 +79,8 @@ class FrictionEvents:
         def at(t: float):
             if t not in cache:
                 q, v = traj.at(t)
-                rows = self.evaluator.rows(sub.contacts, q, v, self.with_gaps)
+                contacts = self.refresh(sub.contacts, q)
+                rows = self.evaluator.rows(contacts, q, v, self.with_gaps)
                 cache[t] = (rows, self.forces.solve(sub, rows))
             return cache[t]
 

@@ -34,8 +34,9 @@ def has_friction(scene) -> bool:
     return int(np.count_nonzero(scene.friction > 0)) >= 2
 
 
-def friction_stage(scene, fixed: np.ndarray, stabilisation) -> FrictionStage | None:
-    """The scene's friction stage, or None when no contact can have friction."""
+def friction_stage(scene, fixed: np.ndarray, stabilisation, collision) -> FrictionStage | None:
+    """The scene's friction stage, or None when no contact can have friction; ``collision``:
+    the stepper's runtime.step.collision.Collision (its oval refresh)."""
     if not has_friction(scene):
         return None
     # imported here: a frictionless scene never loads them (nor the generated friction rows)
@@ -45,4 +46,6 @@ def friction_stage(scene, fixed: np.ndarray, stabilisation) -> FrictionStage | N
 
     evaluator = FrictionRowEvaluator(scene.contact_cases(), fixed, scene.friction)
     forces = FrictionalForces(scene, stabilisation)
-    return FrictionStage(evaluator, forces, FrictionEvents(evaluator, forces, fixed))
+    return FrictionStage(
+        evaluator, forces, FrictionEvents(evaluator, forces, fixed, collision.refresh_ovals)
+    )

@@ -94,7 +94,7 @@ class Stepper:
         self.collision = Collision(scene)
         self.evaluator = RowEvaluator(scene.contact_cases(), self.fixed)
         self.forces = ContactForces(scene, stabilisation)
-        self.friction = friction_stage(scene, self.fixed, stabilisation)  # None: frictionless
+        self.friction = friction_stage(scene, self.fixed, stabilisation, self.collision)
         if self.friction is not None:
             self.evaluator, self.forces = self.friction.evaluator, self.friction.forces
         self.with_gaps = stabilisation is not None

@@ -28,17 +28,8 @@ import numpy as np
 
 from runtime import settings
 from runtime.solve import lemke
+from runtime.solve.friction_rows import dense_rows, island_bodies
 from runtime.solve.lcp_problem import ContactSolverError
-
-
-def _dense(rows6, body1, body2, local, fixed, width) -> np.ndarray:
-    """(K, 6) rows over the pair's bodies as (K, 3 nb) over the island's moving bodies."""
-    out = np.zeros((len(rows6), width))
-    for side, bodies in ((0, body1), (3, body2)):
-        keep = np.flatnonzero(~fixed[bodies])
-        cols = 3 * local[bodies[keep]][:, None] + np.arange(3)
-        out[keep[:, None], cols] += rows6[keep, side : side + 3]
-    return out
 
 
 def _cone_lcp(Jn, Jt, w, mu, vn, vt, normal=None):
@@ -92,12 +83,9 @@ def resolve_frictional(
 def _waves(rows, restitution, bodies, resting_speed, creep_speed):
     fixed = bodies.fixed
     b1, b2, mu = rows.body1, rows.body2, rows.mu
-    ends = np.concatenate([b1, b2])
-    moving = np.unique(ends[~fixed[ends]])
-    local = np.zeros(len(fixed), dtype=np.int64)
-    local[moving] = np.arange(moving.size)
-    Jn = _dense(rows.jacobian, b1, b2, local, fixed, 3 * moving.size)
-    Jt = _dense(rows.tangent_jacobian, b1, b2, local, fixed, 3 * moving.size)
+    moving, local = island_bodies(b1, b2, fixed)
+    Jn = dense_rows(rows.jacobian, b1, b2, local, fixed, moving.size)
+    Jt = dense_rows(rows.tangent_jacobian, b1, b2, local, fixed, moving.size)
     w = bodies.inverse_mass[moving].ravel()
     vn, vt = rows.gap_velocity.astype(float), rows.tangent_velocity.astype(float)
     total = np.zeros(len(mu))

@@ -117,3 +117,23 @@ class FrictionRowEvaluator(RowEvaluator):
                     static2, members, out,
                 )  # fmt: skip
         return out
+
+
+def island_bodies(body1: np.ndarray, body2: np.ndarray, fixed: np.ndarray):
+    """(moving bodies of these rows, sorted; each body's index among them) for dense rows."""
+    ends = np.concatenate([body1, body2])
+    moving = np.unique(ends[~fixed[ends]])
+    local = np.zeros(len(fixed), dtype=np.int64)
+    local[moving] = np.arange(moving.size)
+    return moving, local
+
+
+def dense_rows(rows6, body1, body2, local, fixed, count: int) -> np.ndarray:
+    """(K, 6) rows over each pair's bodies as (K, 3 count) over the ``count`` moving bodies
+    (``local``: :func:`island_bodies`), for the small dense solves of impacts and holds."""
+    out = np.zeros((len(rows6), 3 * count))
+    for side, bodies in ((0, body1), (3, body2)):
+        keep = np.flatnonzero(~fixed[bodies])
+        cols = 3 * local[bodies[keep]][:, None] + np.arange(3)
+        out[keep[:, None], cols] += rows6[keep, side : side + 3]
+    return out

@@ -23,6 +23,7 @@ from dataclasses import replace
 import numpy as np
 
 from runtime import settings
+from runtime.solve.friction_rows import dense_rows, island_bodies
 
 
 def hold_sticking(frame, resting, bodies, solve: Callable) -> tuple:
@@ -44,11 +45,8 @@ def hold_sticking(frame, resting, bodies, solve: Callable) -> tuple:
     jac6 = np.concatenate([tangential.tangent_jacobian, normal.jacobian])
     b1 = np.concatenate([tangential.body1, normal.body1])
     b2 = np.concatenate([tangential.body2, normal.body2])
-    ends = np.concatenate([b1, b2])
-    moving = np.unique(ends[~fixed[ends]])
-    local = np.zeros(len(fixed), dtype=np.int64)
-    local[moving] = np.arange(moving.size)
-    J = dense_rows(jac6, b1, b2, local, fixed, 3 * moving.size)
+    moving, local = island_bodies(b1, b2, fixed)
+    J = dense_rows(jac6, b1, b2, local, fixed, moving.size)
     w = bodies.inverse_mass[moving].ravel()
     target = np.concatenate([-tangential.tangent_velocity, np.zeros(len(index))])
     p = np.linalg.lstsq((J * w) @ J.T, target, rcond=None)[0]
@@ -63,13 +61,3 @@ def hold_sticking(frame, resting, bodies, solve: Callable) -> tuple:
         impact_loss=frame.impact_loss + loss,
     )
     return frame, solve(frame)
-
-
-def dense_rows(rows6, body1, body2, local, fixed, width) -> np.ndarray:
-    """(K, 6) rows over the pair's bodies as (K, 3 nb) over the island's moving bodies."""
-    out = np.zeros((len(rows6), width))
-    for side, bodies in ((0, body1), (3, body2)):
-        keep = np.flatnonzero(~fixed[bodies])
-        cols = 3 * local[bodies[keep]][:, None] + np.arange(3)
-        out[keep[:, None], cols] += rows6[keep, side : side + 3]
-    return out

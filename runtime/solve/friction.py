@@ -47,7 +47,8 @@ class FrictionProblem(ForceProblem):
 class FrictionSolution(ForceSolution):
     """Also the friction forces f_t (m,), the tangential accelerations a_t (m,) and ``slips``
     (m,): sticking contacts whose slack is above settings.SLIP_ONSET (the hold needs more than
-    mu f_n: they start to slide)."""
+    mu f_n: they start to slide) and whose normal force is not 0 (without it, sticking and
+    sliding give the same force, 0: a contact lifting off is not a transition)."""
 
     tangent_forces: np.ndarray = None
     tangent_accelerations: np.ndarray = None
@@ -117,7 +118,8 @@ class FrictionalForces(ContactForces):
             if status != SOLVED:
                 raise painleve(rows.mu[a:b], slide[a:b])
             scale = max(float(np.max(np.abs(rates[a:b]), initial=0.0)), 1.0)
-            slips[a:b] = slack[a:b] > settings.SLIP_ONSET * scale
+            pressed = forces[a:b] > settings.SLIP_ONSET * float(np.max(forces[a:b]))
+            slips[a:b] = (slack[a:b] > settings.SLIP_ONSET * scale) & pressed
         return FrictionSolution(acc, forces, rates, tangent, a_t, slips)
 
 

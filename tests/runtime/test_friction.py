@@ -197,6 +197,49 @@ def test_a_box_tipping_on_its_corner_sticks_until_the_friction_it_needs_reaches_
     assert np.min(np.abs(corner[run.t > t_slip + 0.01, 0])) > 1e-6  # then it slides
 
 
+def test_a_tall_box_on_a_steep_slope_with_high_mu_tips_instead_of_sliding():
+    """Box 0.1 x 0.3 on a 0.5 rad slope (tan 0.55 > mu-free bound w / h = 1/3: its centre is
+    past the downhill corner), mu = 2 > tan: it pivots about that corner (a rigid pendulum,
+    I = 4/3 m d^2 about it, solve_ivp) while the pivot's force stays in the cone, the uphill
+    corner lifting (no event: no normal force, no friction to change); it slips where
+    |F_t| = mu N of the pivot's force along the slope (solve_ivp's event). Bounds as for the
+    box tipping on a floor."""
+    w, h, theta, mu = 0.1, 0.3, 0.5, 2.0
+    run = runtime.simulate(incline(theta, mu, {**BLOCK, "width": w, "height": h}, h / 2), 0.4, 1e-3)
+    d = math.hypot(w, h) / 2
+    inertia = 4.0 / 3.0 * d * d  # per unit mass, about the corner
+
+    def lever(angle):  # corner -> centre, world, at body angle theta + angle
+        a = theta + angle
+        return np.array([math.cos(a) * w / 2 - math.sin(a) * h / 2,
+                         math.sin(a) * w / 2 + math.cos(a) * h / 2])  # fmt: skip
+
+    def pivot(_t, y):
+        return [y[1], -G * lever(y[0])[0] / inertia]
+
+    def slips(_t, y):
+        r, al = lever(y[0]), -G * lever(y[0])[0] / inertia
+        acc = al * np.array([-r[1], r[0]]) - y[1] ** 2 * r  # the centre's acceleration
+        force = acc + np.array([0.0, G])  # of the pivot on the box, per unit mass
+        along, normal = (
+            np.array([math.cos(theta), math.sin(theta)]),
+            np.array([-math.sin(theta), math.cos(theta)]),
+        )
+        return abs(force @ along) - mu * (force @ normal)
+
+    slips.terminal = True
+    ref = solve_ivp(pivot, (0, 1), [0.0, 0.0], method="DOP853", rtol=1e-13, atol=1e-15,
+                    events=slips, dense_output=True)  # fmt: skip
+    t_slip = ref.t_events[0][0]
+    assert len(run.impact_times) == 1 and abs(run.impact_times[0] / t_slip - 1.0) < 1e-9
+    before = run.t < t_slip
+    turned = run.poses[before, 1, 2] - theta
+    assert np.max(np.abs(turned - ref.sol(run.t[before])[0])) < 1e-9
+    assert turned[-1] > 0.5  # it tipped, by 30 degrees before the corner slips
+    corner = run.poses[before, 1, :2] - np.array([lever(a) for a in turned])
+    assert np.max(np.abs(corner - corner[0])) < 1e-10
+
+
 @pytest.mark.parametrize("phi", [0.3, 0.7, 1.0, 1.2])
 @pytest.mark.parametrize("speed", [-2.0, 2.0])
 def test_a_painleve_configuration_ends_in_a_named_error(phi, speed):

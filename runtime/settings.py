@@ -134,6 +134,9 @@ LEMKE_PIVOT = 1e-12  # relative to the largest |M_ij| (at least 1): a tableau en
 LEMKE_TIE = 1e-12  # relative to the minimum ratio: rows within this of it tie (and the
 # lexicographic rule decides); two equal tangential rows (a box's corners) tie exactly
 LEMKE_PIVOTS = 50  # times (n + 1): pivots of one Lemke solve before giving up (it needs about n)
+LEMKE_RETRIES = 3  # solves again with a perturbed q after a ray (runtime.solve.lemke)
+LEMKE_PERTURB = 1e-13  # relative to max |q| (at least 1): the perturbation of such a retry; the
+# solution is then exact for a q changed by this much, far below LCP_TOL
 STICK_SPEED = 1e-9  # m/s: a frictional contact whose tangential speed |v_t| is at most this
 # sticks if the forces allow it (the friction LCP decides); faster, it slides against v_t. As
 # TOUCH for gaps: a located slip -> stick leaves |v_t| a thousandth of it (STICK_LOCATE)

@@ -8,7 +8,11 @@ sub-step) each frictional resting contact gets a mode, kept for the whole trial:
 * otherwise sticking, unless the friction LCP (runtime.solve.friction_lcp) says it slips at once
   (its slack lambda > settings.SLIP_ONSET: the force needed to hold it exceeds mu f_n); then it
   slides the way it accelerates. Decided again until no sticking contact slips (a contact that
-  slips can make its neighbour slip).
+  slips can make its neighbour slip);
+* if no forces obey Coulomb's law with these modes (a Painleve configuration, e.g. in a pile of
+  discs), the contacts sliding slower than the resting speed are made to stick (their slip is
+  then removed by runtime.step.friction_hold's impulse, as an approach slower than the resting
+  speed is made plastic); if that does not help either, the named error stands.
 
 The transitions inside a step (stick -> slip when |f_t| reaches mu f_n, slip -> stick when v_t
 crosses 0) are located by runtime.step.friction_events and start a new frame there.
@@ -25,7 +29,7 @@ import numpy as np
 
 from runtime import settings
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution
-from runtime.solve.friction_lcp import painleve, solve_island
+from runtime.solve.friction_lcp import FrictionInconsistent, painleve, solve_island
 from runtime.solve.friction_rows import FrictionRows
 from runtime.solve.lemke import SOLVED
 
@@ -72,8 +76,15 @@ class FrictionalForces(ContactForces):
     def _decide(self, problem: FrictionProblem, rows: FrictionRows) -> np.ndarray:
         v_t = rows.tangent_velocity
         slide = np.where((rows.mu > 0) & (np.abs(v_t) > settings.STICK_SPEED), np.sign(v_t), 0.0)
+        slow = (slide != 0) & (np.abs(v_t) <= settings.RESTING_SPEED)
         for _ in range(len(slide) + 1):
-            solution = self._solve(problem, rows, slide)
+            try:
+                solution = self._solve(problem, rows, slide)
+            except FrictionInconsistent:
+                if not slow.any():
+                    raise
+                slide, slow = np.where(slow, 0.0, slide), np.zeros_like(slow)
+                continue
             if not solution.slips.any():
                 break
             slide = slide.copy()

@@ -33,7 +33,7 @@ import numpy as np
 
 from runtime.compiled import njit
 from runtime.solve.lcp_problem import ContactSolverError
-from runtime.solve.lemke import SOLVED, lemke
+from runtime.solve.lemke import SOLVED, lemke_perturbed
 
 
 class FrictionInconsistent(ContactSolverError):
@@ -123,7 +123,7 @@ def solve_island(
         M[k + 2 * s + i, k + i] = M[k + 2 * s + i, k + s + i] = -1.0
         M[k + 2 * s + i, stick[i]] = mu[stick[i]]
     z = np.zeros(n)
-    status = lemke(M, q, z)
+    status = lemke_perturbed(M, q, z)
     if status != SOLVED:
         return status
     for i in range(k):

@@ -13,10 +13,12 @@
 from __future__ import annotations
 
 import itertools
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from runtime import settings
 from runtime.solve import lcp, lemke
 
 
@@ -27,7 +29,10 @@ def _brute_force(M: np.ndarray, q: np.ndarray) -> np.ndarray:
         z = np.zeros(n)
         on = np.array(basis)
         if on.any():
-            z[on] = np.linalg.solve(M[np.ix_(on, on)], -q[on])
+            try:
+                z[on] = np.linalg.solve(M[np.ix_(on, on)], -q[on])
+            except np.linalg.LinAlgError:  # a singular basis: not this one
+                continue
         w = M @ z + q
         scale = np.abs(M).sum() * (1 + np.abs(z).max()) + np.abs(q).max()
         if np.all(z >= -1e-12 * scale) and np.all(w >= -1e-12 * scale):
@@ -95,3 +100,20 @@ def test_a_box_on_a_floor_with_equal_tangential_rows_is_solved_and_held():
 def test_a_problem_without_solution_ends_on_a_ray():
     z, status = lemke.solve(np.array([[-1.0]]), np.array([-1.0]))
     assert status == lemke.RAY
+
+
+def test_a_degenerate_impact_problem_ends_on_a_ray_without_and_is_solved_with_perturbation():
+    """The frictional impulse LCP of a disc pile (tests/runtime/data/lemke_degenerate_impact.npz:
+    two contacts sliding at 0.14 and 0.2 m/s with approach rates of -5e-12 m/s beside exact
+    zeros) sends plain Lemke onto a ray although it has a solution (found by trying bases);
+    the perturbed retry solves it, exactly for a q moved by the perturbation (LEMKE_PERTURB x
+    max(1, |q|), up to 2x in its pattern and 3 retries)."""
+    data = np.load(Path(__file__).parent / "data" / "lemke_degenerate_impact.npz")
+    M, q = data["M"], data["q"]
+    assert lemke.lemke(M.copy(), q.copy(), np.zeros(q.size)) == lemke.RAY
+    _brute_force(M, q)  # a solution exists
+    z, status = lemke.solve(M, q)
+    w = M @ z + q
+    moved = 6 * settings.LEMKE_PERTURB * max(1.0, np.abs(q).max())
+    assert status == lemke.SOLVED
+    assert z.min() >= 0 and w.min() >= -moved and abs(z @ w) <= moved * z.sum()

@@ -6,11 +6,13 @@ Why this and not the frictionless solvers (runtime.solve.lcp): with Coulomb fric
 contact problem (runtime.solve.friction_lcp) has the friction cone's two directions and a slack
 per sticking contact, and sliding contacts fold -mu sign(v_t) of their tangential row into their
 normal column, so M is not symmetric, nor positive semi-definite. Lemke's method solves every
-LCP whose M is copositive-plus (the sticking problem with A = J M^-1 J^T positive
-semi-definite, Stewart and Trinkle 1996, Anitescu and Potra 1997) and otherwise either solves it
-or ends on a ray, which is a certificate of nothing in general but, for the contact problem, is
-what an inconsistent (Painleve) configuration gives. No maintained pip package fits: the LCP
-solvers on PyPI (lemkelcp, siconos) are unmaintained pure-Python or a large C++ framework.
+feasible LCP whose M is copositive-plus, and is the method shown to process the friction cone's
+LCP (Stewart and Trinkle 1996, Anitescu and Potra 1997); otherwise it solves it or ends on a
+ray, which is what an inconsistent (Painleve) configuration gives -- and, rarely, a degenerate
+one (see :func:`lemke_perturbed`). Written here (about 100 lines, compiled
+with runtime.compiled.njit) rather than taken from a package: the friction forces call it from
+compiled code at every integrator stage, which a Python package's solver could not serve, and
+the project adds no dependency for it.
 
 The method (Cottle, Pang and Stone, "The Linear Complementarity Problem", 1992, section 4.4):
 the tableau [I  -M  -e | q] with w basic; the artificial z0 enters at the row of the most

@@ -126,6 +126,31 @@ COMPILED = True  # use the compiled frame and integrator stages where they apply
 DENSE_ISLAND = 128  # contacts: islands up to this size are assembled and solved dense in one
 # compiled call (an A_CC Cholesky of 48 rows costs ~20 us); larger ones go sparse
 
+# -- friction (runtime/solve/friction*.py, runtime/step/friction_events.py) ----------------------
+
+LEMKE_PIVOT = 1e-12  # relative to the largest |M_ij| (at least 1): a tableau entry below it is
+# rounding and cannot limit the entering variable (runtime.solve.lemke); the friction problem's
+# entries are O(1/mass) and O(mu), its eliminations lose a few digits at most
+LEMKE_TIE = 1e-12  # relative to the minimum ratio: rows within this of it tie (and the
+# lexicographic rule decides); two equal tangential rows (a box's corners) tie exactly
+LEMKE_PIVOTS = 50  # times (n + 1): pivots of one Lemke solve before giving up (it needs about n)
+LEMKE_RETRIES = 3  # solves again with a perturbed q after a ray (runtime.solve.lemke)
+LEMKE_PERTURB = 1e-13  # relative to max |q| (at least 1): the perturbation of such a retry; the
+# solution is then exact for a q changed by this much, far below LCP_TOL
+STICK_SPEED = 1e-9  # m/s: a frictional contact whose tangential speed |v_t| is at most this
+# sticks if the forces allow it (the friction LCP decides); faster, it slides against v_t. As
+# TOUCH for gaps: a located slip -> stick leaves |v_t| a thousandth of it (STICK_LOCATE)
+STICK_LOCATE = 1e-3  # relative to STICK_SPEED: the |v_t| a located slip -> stick must reach
+SLIP_ONSET = 1e-9  # relative to the problem's scale (largest |b|, or g): a sticking contact
+# whose slack lambda (the tangential acceleration it would take) exceeds this starts to slide;
+# rounding of the Lemke tableau leaves ~1e-15 of it
+IMPACT_ENERGY_SLACK = 1e-12  # relative to the kinetic energy before: a frictional impact whose
+# restitution phase leaves more than this (rounding is ~1e-15) is redone plastic
+# (runtime.solve.friction_impulses: Poisson's restitution with friction can add energy)
+SLIP_TIME = 1e-9  # relative to the step: how closely a stick -> slip transition is bisected in
+# time (a predicate, not a smooth function: runtime.step.friction_events); the state differs
+# from the exact one's by ~ (this x dt)^2 x the change of acceleration, far below the step's error
+
 # -- contacts: touching, resting, impacts ------------------------------------------------------
 
 TOUCH = 1e-9  # m, at most the scene's contact tolerance: the largest gap that counts as

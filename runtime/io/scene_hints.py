@@ -1,10 +1,10 @@
 """Hints for scene input that is probably a mistake of intent rather than a typo.
 
-Why: "did you mean" from string similarity helps with ``positon``, but it answers ``friction``
-with "did you mean 'restitution'?", which sends the user after the wrong key: a key that names a
-feature the engine lacks should say so. Likewise a word from another engine's vocabulary
-(``bounciness``, ``circle``), and an angle written in degrees (``angle = 90``), which is a valid
-number of radians and would silently turn the body by 90 rad.
+Why: "did you mean" from string similarity helps with ``positon``, but for a key that names a
+feature the engine lacks (``damping``) it can only list the valid keys or point to a wrong one,
+which sends the user after the wrong key: such a key should say so. Likewise a word from another
+engine's vocabulary (``bounciness``, ``mu``, ``circle``), and an angle written in degrees
+(``angle = 90``), which is a valid number of radians and would silently turn the body by 90 rad.
 """
 
 from __future__ import annotations
@@ -16,13 +16,15 @@ from collections.abc import Sequence
 __all__ = ["degrees_hint", "looks_like_degrees", "unknown_key_hint", "unknown_type_hint"]
 
 # Keys (any table, any case) naming features the engine does not have -> what to say.
-_FRICTION = "friction is not supported yet: contacts are frictionless (normal forces only)"
+_ROLLING = (
+    "rolling resistance is not supported: friction is Coulomb friction at the contact point, "
+    "one coefficient 'friction' per body"
+)
 _MOTORS = "motors are not supported yet: a joint holds its anchors (pin) or distance only"
 _FORCES = "applied forces are not supported yet: only gravity and contact forces act on a body"
 _FILTERS = "collision filtering is not supported: every pair of bodies can touch"
 UNSUPPORTED: dict[str, str] = {
-    **dict.fromkeys(("friction", "mu", "static_friction", "dynamic_friction",
-                     "kinetic_friction", "rolling_friction", "rolling_resistance"), _FRICTION),
+    **dict.fromkeys(("rolling_friction", "rolling_resistance"), _ROLLING),
     **dict.fromkeys(("motor", "motors"), _MOTORS),
     **dict.fromkeys(("force", "forces", "torque", "impulse"), _FORCES),
     **dict.fromkeys(("collision_group", "collision_mask", "collision_layer", "collision_filter"),
@@ -52,6 +54,16 @@ SYNONYMS: dict[str, str] = {
     "attraction": "mutual_gravity",
     "length": "rest_length",
     "k": "stiffness",
+    **dict.fromkeys(
+        (
+            "mu",
+            "static_friction",
+            "dynamic_friction",
+            "kinetic_friction",
+            "coefficient_of_friction",
+        ),
+        "friction",
+    ),  # fmt: skip
 }
 SHAPE_SYNONYMS: dict[str, str] = {
     "circle": "disc",

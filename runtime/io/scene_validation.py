@@ -82,6 +82,7 @@ BODY_KEYS = (
     "restitution",
     "linear_damping",
     "angular_damping",
+    "friction",
 )
 
 # Shape type -> its parameters and their kinds: "positive", "nonnegative", "finite" numbers,
@@ -263,6 +264,7 @@ def read_body(raw: Any, index: int, source: str) -> dict[str, Any]:
         "angle": _read_angle(table),
         "restitution": table.number("restitution", 0.0, check="unit"),
         **read_body_damping(table, fixed),
+        "friction": table.number("friction", 0.0, check="nonnegative"),
     }
     if fixed:
         for key in ("mass", "density", "inertia", "center_of_mass"):

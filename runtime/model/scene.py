@@ -61,6 +61,7 @@ class Body:
     origin: Vec2 = (0.0, 0.0)
     linear_damping: float = 0.0  # 1/s: force -k m v
     angular_damping: float = 0.0  # 1/s: torque -k I w
+    friction: float = 0.0  # Coulomb coefficient mu >= 0 (sticking and sliding), fixed bodies too
 
     def __post_init__(self) -> None:
         self.position = _pair(self.position)
@@ -68,6 +69,11 @@ class Body:
         self.origin = _pair(self.origin)
         self.angle = float(self.angle)
         self.angular_velocity = float(self.angular_velocity)
+        self.friction = float(self.friction)
+        if not (math.isfinite(self.friction) and self.friction >= 0):
+            raise ValueError(
+                f"body {self.name!r}: friction must be finite and >= 0, got {self.friction}"
+            )
         if self.fixed:
             if self.velocity != (0.0, 0.0) or self.angular_velocity != 0.0:
                 raise ValueError(f"fixed body {self.name!r} must have zero velocity")
@@ -103,6 +109,7 @@ class Body:
         center_of_mass: Sequence[float] | None = None,
         linear_damping: float = 0.0,
         angular_damping: float = 0.0,
+        friction: float = 0.0,
     ) -> Body:
         """A body from a shape in its own coordinates.
 
@@ -123,8 +130,9 @@ class Body:
                     "is infinite); remove it"
                 )
             return cls(
-                name, shape, position=position, angle=angle, fixed=True, restitution=restitution
-            )
+                name, shape, position=position, angle=angle, fixed=True,
+                restitution=restitution, friction=friction,
+            )  # fmt: skip
         if (mass is None) == (density is None):
             raise ValueError(f"body {name!r}: give exactly one of mass and density")
         problem = None if center_of_mass is None else center_of_mass_error(shape, center_of_mass)
@@ -153,6 +161,7 @@ class Body:
             origin=(0.0 - float(offset[0]), 0.0 - float(offset[1])),
             linear_damping=float(linear_damping),
             angular_damping=float(angular_damping),
+            friction=friction,
         )
 
     @property
@@ -276,6 +285,11 @@ class Scene:
         """(n, 3) array ``(1/m, 1/m, 1/I)`` per body; zeros for fixed bodies."""
         rows = [(b.inverse_mass, b.inverse_mass, b.inverse_inertia) for b in self.bodies]
         return np.array(rows, dtype=float).reshape(-1, 3)
+
+    @property
+    def friction(self) -> np.ndarray:
+        """(n,) Coulomb coefficient per body; a contact's is sqrt(mu1 mu2)."""
+        return np.array([b.friction for b in self.bodies], dtype=float)
 
     def contact_cases(self) -> set[str]:
         """The contact cases (generated kernels) this scene can produce."""

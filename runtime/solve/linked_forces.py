@@ -130,7 +130,7 @@ class LinkedForces(ContactForces):
         return rows.dense_jacobian(self.n)[:, columns]
 
     def impacts(
-        self, joint_rows: Rows, bodies, contacts, rows: Rows, touching, keys, recent, limits
+        self, joint_rows: Rows, bodies, velocities, rows: Rows, touching, keys, recent, limits
     ):
         """runtime.step.classify's impacts with the joints held: (impulse per contact, velocity
         change (n, 3)); ``joint_rows`` at the state of ``rows`` (see the module docstring)."""

@@ -216,7 +216,7 @@ def make_frame(
     touching = np.flatnonzero(modes != OPEN)
     if touching.size == 0 or not np.any(rows.gap_velocity[touching] < -limits.creep_speed):
         return frame
-    p, dv = (impacts or _impacts)(bodies, contacts, rows, touching, keys, recent, limits)
+    p, dv = (impacts or _impacts)(bodies, velocities, rows, touching, keys, recent, limits)
     new_velocities = velocities + dv
     rows = rows.with_velocity_change(dv)
     new_modes = classify(rows.gap, rows.gap_velocity, limits, member(keys, held))
@@ -225,7 +225,7 @@ def make_frame(
     return Frame(contacts, keys, rows, new_modes, new_velocities, margin, p, loss)
 
 
-def _impacts(bodies: Bodies, contacts, rows: Rows, touching, keys, recent, limits: Limits):
+def _impacts(bodies: Bodies, velocities, rows: Rows, touching, keys, recent, limits: Limits):
     """(impulse per contact, velocity change (n, 3)) of the impacts among the touching
     contacts, island by island (islands where nothing approaches are left alone)."""
     n = len(bodies.fixed)
@@ -240,10 +240,21 @@ def _impacts(bodies: Bodies, contacts, rows: Rows, touching, keys, recent, limit
     jac = np.ascontiguousarray(rows.jacobian[members])
     sub_b1, sub_b2 = rows.body1[members], rows.body2[members]
     p = np.zeros(len(rate))
+    mu = getattr(rows, "mu", None)  # FrictionRows in a scene with friction
+    frictional, dv_friction = np.zeros(len(rate), dtype=bool), np.zeros((n, 3))
     for g in range(len(offsets) - 1):
         start, stop = int(offsets[g]), int(offsets[g + 1])
         island = members[start:stop]
         if not np.any(rate[island] < -limits.creep_speed):
+            continue
+        if mu is not None and np.any(mu[island] > 0):  # impulses with friction
+            from runtime.solve.friction_impulses import resolve_frictional
+
+            p[island], dv_island = resolve_frictional(
+                rows.take(island), e[island], bodies, velocities, limits.resting_speed,
+                limits.creep_speed,
+            )  # fmt: skip
+            frictional[island], dv_friction = True, dv_friction + dv_island
             continue
         A = np.empty((stop - start, stop - start))
         assembly.island_matrix(
@@ -253,8 +264,7 @@ def _impacts(bodies: Bodies, contacts, rows: Rows, touching, keys, recent, limit
             A, rate[island], e[island], limits.resting_speed, limits.creep_speed
         )
         p[island] = outcome.impulses
-    dv = np.zeros((n, 3))
-    assembly.add_forces(
-        jac, sub_b1, sub_b2, bodies.inverse_mass, np.ascontiguousarray(p[members]), dv
-    )
+    dv = dv_friction
+    normal = np.where(frictional, 0.0, p)[members]  # the frictional islands' are in dv already
+    assembly.add_forces(jac, sub_b1, sub_b2, bodies.inverse_mass, normal, dv)
     return p, dv

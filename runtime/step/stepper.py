@@ -42,6 +42,7 @@ from runtime.solve.rows import RowEvaluator, Rows
 from runtime.step.classify import LIFTING, RESTING, Bodies, Frame, Limits, make_frame, member
 from runtime.step.collision import Collision
 from runtime.step.events import EventSearch
+from runtime.step.friction_stage import friction_stage
 from runtime.step.integrators import FIXED_STEP, Trajectory
 from runtime.step.pair_scan import IslandsMeet
 from runtime.step.resting import settle
@@ -98,6 +99,15 @@ class Stepper:
 
             self.links = LinkedForces(scene, stabilisation)
         self.forces = self.links or ContactForces(scene, stabilisation)
+        self.friction = friction_stage(scene, self.fixed, stabilisation, self.collision)
+        if self.friction is not None:
+            if self.links is not None:
+                raise ValueError(
+                    f"{scene.source}: friction together with joints, springs, damping or mutual "
+                    "gravity is not supported yet (issues #15, #16): set friction = 0 or remove "
+                    "the links"
+                )
+            self.evaluator, self.forces = self.friction.evaluator, self.friction.forces
         self.with_gaps = stabilisation is not None
         self.recovery = 0.0 if stabilisation is None else 0.5 * stabilisation.damping
         self.resting_speed = resting_speed
@@ -120,6 +130,7 @@ class Stepper:
             and stabilisation is None
             and not self.ovals
             and self.links is None
+            and self.friction is None
         )
         if self.compiled:
             # imported here: they compile in every contact case (runtime/solve/kernel_set.py);
@@ -163,6 +174,8 @@ class Stepper:
             )
             if self.links is not None:
                 done = self.links.hold_joints(q, frame, done, partial(self.solve, q))
+            if self.friction is not None:
+                done = self.friction.hold(*done, self.bodies, partial(self.solve, q))
         self._hold(done[0], active)
         return done
 
@@ -339,6 +352,10 @@ class Stepper:
                 frame, labels = self._widen(q, end[0], frame, limits, active)
             trajectory = _IslandTrajectories(self, trial, resting, labels, split)
             firsts = self.events.first(frame, q, end, remaining, labels, trajectory)
+            if self.friction is not None:  # stick <-> slip, located like impacts
+                found = self.friction.events.first(resting.problem, remaining, labels, trajectory)
+                for g, t in found.items():
+                    firsts[g] = min(firsts.get(g, t), t)
             if not firsts:
                 return end
             events += 1

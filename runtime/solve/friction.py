@@ -1,0 +1,138 @@
+"""Contact forces with Coulomb friction: the modes (stick, slide +-) and the forces they give.
+
+Why modes: a trial step must integrate a smooth right-hand side, and friction is smooth only
+while no contact changes between sticking and sliding. So at a frame (the start of a step or
+sub-step) each frictional resting contact gets a mode, kept for the whole trial:
+
+* |v_t| > settings.STICK_SPEED: sliding against v_t (slide = sign v_t, f_t = -slide mu f_n);
+* otherwise sticking, unless the friction LCP (runtime.solve.friction_lcp) says it slips at once
+  (its slack lambda > settings.SLIP_ONSET: the force needed to hold it exceeds mu f_n); then it
+  slides the way it accelerates. Decided again until no sticking contact slips (a contact that
+  slips can make its neighbour slip);
+* if no forces obey Coulomb's law with these modes (a Painleve configuration, e.g. in a pile of
+  discs), the contacts sliding slower than the resting speed are made to stick (their slip is
+  then removed by runtime.step.friction_hold's impulse, as an approach slower than the resting
+  speed is made plastic); if that does not help either, the named error stands.
+
+The transitions inside a step (stick -> slip when |f_t| reaches mu f_n, slip -> stick when v_t
+crosses 0) are located by runtime.step.friction_events and start a new frame there.
+
+Islands without a frictional contact are solved as without friction (runtime.solve.forces),
+bit for bit; the others by Lemke's method on the friction LCP.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from runtime import settings
+from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution
+from runtime.solve.friction_lcp import FrictionInconsistent, painleve, solve_island
+from runtime.solve.friction_rows import FrictionRows
+from runtime.solve.lemke import SOLVED
+
+
+@dataclass
+class FrictionProblem(ForceProblem):
+    """A ForceProblem with each contact's friction mode ``slide`` (0 stick or frictionless,
+    +-1 sliding with v_t of that sign); None until the first solve decides it."""
+
+    slide: np.ndarray | None = None
+
+    def subset(self, keep: np.ndarray) -> FrictionProblem:
+        base = ForceProblem.subset(self, keep)
+        slide = None if self.slide is None else self.slide[np.flatnonzero(keep)]
+        return FrictionProblem(**{f.name: getattr(base, f.name) for f in fields(base)}, slide=slide)
+
+
+@dataclass(frozen=True)
+class FrictionSolution(ForceSolution):
+    """Also the friction forces f_t (m,), the tangential accelerations a_t (m,) and ``slips``
+    (m,): sticking contacts whose slack is above settings.SLIP_ONSET (the hold needs more than
+    mu f_n: they start to slide) and whose normal force is not 0 (without it, sticking and
+    sliding give the same force, 0: a contact lifting off is not a transition)."""
+
+    tangent_forces: np.ndarray = None
+    tangent_accelerations: np.ndarray = None
+    slips: np.ndarray = None
+
+
+class FrictionalForces(ContactForces):
+    """ContactForces with Coulomb friction (see the module docstring)."""
+
+    def problem(self, contacts, island_of_contact, keys) -> FrictionProblem:
+        base = super().problem(contacts, island_of_contact, keys)
+        return FrictionProblem(**{f.name: getattr(base, f.name) for f in fields(base)})
+
+    def solve(self, problem: FrictionProblem, rows: FrictionRows) -> FrictionSolution:
+        """Forces and accelerations with each contact's mode; the modes are decided at the
+        problem's first solve (its frame)."""
+        if problem.slide is None:
+            problem.slide = self._decide(problem, rows)
+        return self._solve(problem, rows, problem.slide)
+
+    def _decide(self, problem: FrictionProblem, rows: FrictionRows) -> np.ndarray:
+        v_t = rows.tangent_velocity
+        slide = np.where((rows.mu > 0) & (np.abs(v_t) > settings.STICK_SPEED), np.sign(v_t), 0.0)
+        slow = (slide != 0) & (np.abs(v_t) <= settings.RESTING_SPEED)
+        for _ in range(len(slide) + 1):
+            try:
+                solution = self._solve(problem, rows, slide)
+            except FrictionInconsistent:
+                if not slow.any():
+                    raise
+                slide, slow = np.where(slow, 0.0, slide), np.zeros_like(slow)
+                continue
+            if not solution.slips.any():
+                break
+            slide = slide.copy()
+            slide[solution.slips] = np.sign(solution.tangent_accelerations[solution.slips])
+        return slide
+
+    def _solve(self, problem, rows: FrictionRows, slide: np.ndarray) -> FrictionSolution:
+        m = len(rows.bias)
+        frictional = rows.mu > 0
+        if not frictional.any():
+            base = super().solve(problem, rows)
+            return FrictionSolution(*_values(base), np.zeros(m), np.zeros(m), np.zeros(m, bool))
+        offsets = problem.offsets
+        island = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+        with_friction = np.zeros(len(offsets) - 1, dtype=bool)
+        with_friction[island[frictional]] = True
+        plain = ~with_friction[island]
+        acc = self.free_acceleration.copy()
+        forces, rates, tangent, a_t = np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m)
+        slips = np.zeros(m, dtype=bool)
+        if plain.any():
+            sub = problem.subset(plain)
+            base = super().solve(sub, rows.take(plain))
+            problem.guess[plain] = sub.guess  # the warm start the solve updated
+            acc += base.accelerations - self.free_acceleration
+            forces[plain], rates[plain] = base.forces, base.free_rates
+        bias = rows.bias
+        if self.stabilisation is not None:
+            k = self.stabilisation
+            bias = bias + k.damping * rows.gap_velocity + k.stiffness * rows.gap
+        ends = np.ascontiguousarray(np.column_stack([rows.body1, rows.body2]))
+        jac, tangent_jac = rows.jacobian, rows.tangent_jacobian
+        slack = np.zeros(m)
+        slide = slide.astype(float)
+        for g in np.flatnonzero(with_friction):
+            a, b = int(offsets[g]), int(offsets[g + 1])
+            status = solve_island(
+                jac[a:b], tangent_jac[a:b], ends[a:b], bias[a:b], rows.tangent_bias[a:b],
+                rows.mu[a:b], slide[a:b], self.inverse_mass, self.fixed, self.free_acceleration,
+                forces[a:b], tangent[a:b], slack[a:b], a_t[a:b], rates[a:b], acc,
+            )  # fmt: skip
+            if status != SOLVED:
+                raise painleve(rows.mu[a:b], slide[a:b])
+            scale = max(float(np.max(np.abs(rates[a:b]), initial=0.0)), 1.0)
+            pressed = forces[a:b] > settings.SLIP_ONSET * float(np.max(forces[a:b]))
+            slips[a:b] = (slack[a:b] > settings.SLIP_ONSET * scale) & pressed
+        return FrictionSolution(acc, forces, rates, tangent, a_t, slips)
+
+
+def _values(solution: ForceSolution) -> tuple:
+    return tuple(getattr(solution, f.name) for f in fields(ForceSolution))

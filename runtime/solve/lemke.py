@@ -1,0 +1,164 @@
+"""Lemke's complementary pivoting method for a small LCP that need not be symmetric.
+
+Problem: M (n, n), q (n,); find z >= 0 with w = M z + q >= 0 and z.w = 0.
+
+Why this and not the frictionless solvers (runtime.solve.lcp): with Coulomb friction the 2-D
+contact problem (runtime.solve.friction_lcp) has the friction cone's two directions and a slack
+per sticking contact, and sliding contacts fold -mu sign(v_t) of their tangential row into their
+normal column, so M is not symmetric, nor positive semi-definite. Lemke's method solves every
+feasible LCP whose M is copositive-plus, and is the method shown to process the friction cone's
+LCP (Stewart and Trinkle 1996, Anitescu and Potra 1997); otherwise it solves it or ends on a
+ray, which is what an inconsistent (Painleve) configuration gives -- and, rarely, a degenerate
+one (see :func:`lemke_perturbed`). Written here (about 100 lines, compiled
+with runtime.compiled.njit) rather than taken from a package: the friction forces call it from
+compiled code at every integrator stage, which a Python package's solver could not serve, and
+the project adds no dependency for it.
+
+The method (Cottle, Pang and Stone, "The Linear Complementarity Problem", 1992, section 4.4):
+the tableau [I  -M  -e | q] with w basic; the artificial z0 enters at the row of the most
+negative q, then the complement of the variable that left enters, with the minimum-ratio
+test choosing who leaves (z0 on a tie, so it ends as soon as it can; else lexicographically,
+with the rows of the basis inverse, which prevents cycling on degenerate problems such as a
+box whose two corners' tangential rows are equal), until z0 leaves (solved) or no row limits the
+entering variable (a ray: no solution found). A few pivots for a contact island, each O(n^2).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from runtime import settings
+from runtime.compiled import njit
+
+SOLVED, RAY, ITERATIONS = 0, 1, 2
+_PIVOT, _TIE, _PIVOTS = settings.LEMKE_PIVOT, settings.LEMKE_TIE, settings.LEMKE_PIVOTS
+_RETRIES, _PERTURB = settings.LEMKE_RETRIES, settings.LEMKE_PERTURB
+
+
+@njit
+def lemke(M, q, z):
+    """z (n,) written with the solution; returns SOLVED, RAY (no solution found) or ITERATIONS
+    (settings.LEMKE_PIVOTS x n pivots without an end)."""
+    n = q.size
+    for i in range(n):
+        z[i] = 0.0
+    if n == 0:
+        return SOLVED
+    worst = 0
+    for i in range(n):
+        if q[i] < q[worst]:
+            worst = i
+    if q[worst] >= 0.0:
+        return SOLVED
+    # columns: w 0..n-1, z n..2n-1, z0 2n; rhs kept apart
+    T = np.zeros((n, 2 * n + 1))
+    rhs = q.copy()
+    scale = 0.0
+    for i in range(n):
+        T[i, i] = 1.0
+        for j in range(n):
+            T[i, n + j] = -M[i, j]
+            scale = max(scale, abs(M[i, j]))
+        T[i, 2 * n] = -1.0
+    zero = _PIVOT * max(scale, 1.0)
+    basis = np.arange(n)
+    entering = 2 * n
+    row = worst
+    for _ in range(_PIVOTS * (n + 1)):
+        _pivot(T, rhs, row, entering)
+        leaving = basis[row]
+        basis[row] = entering
+        if leaving == 2 * n:
+            break
+        entering = leaving + n if leaving < n else leaving - n
+        row = _ratio_test(T, rhs, basis, entering, zero, n)
+        if row < 0:
+            return RAY
+    else:
+        return ITERATIONS
+    for i in range(n):
+        if n <= basis[i] < 2 * n:
+            z[basis[i] - n] = max(rhs[i], 0.0)
+    return SOLVED
+
+
+@njit
+def lemke_perturbed(M, q, z):
+    """:func:`lemke`, and on a ray up to settings.LEMKE_RETRIES times again with q moved by
+    settings.LEMKE_PERTURB x max |q| in a fixed pattern: degenerate problems (rounding-level
+    q entries beside exact zeros: a disc in a pile with d' = -5e-12 sliding at 0.14 m/s) can end
+    on a ray that an exact lexicographic rule would not reach, and a perturbation of q is the
+    lexicographic rule's own idea made numeric. A problem with no solution stays a ray."""
+    status = lemke(M, q, z)
+    if status != RAY:
+        return status
+    size = 1.0
+    for i in range(q.size):
+        size = max(size, abs(q[i]))
+    for attempt in range(1, _RETRIES + 1):
+        moved = q.copy()
+        for i in range(q.size):
+            moved[i] += _PERTURB * size * attempt * (1.0 + ((i * 0.6180339887498949) % 1.0))
+        status = lemke(M, moved, z)
+        if status != RAY:
+            return status
+    return status
+
+
+@njit
+def _pivot(T, rhs, row, col):
+    """Gauss-Jordan pivot on T[row, col] (rhs too)."""
+    p = T[row, col]
+    T[row, :] /= p
+    rhs[row] /= p
+    for i in range(T.shape[0]):
+        if i != row:
+            f = T[i, col]
+            if f != 0.0:
+                T[i, :] -= f * T[row, :]
+                rhs[i] -= f * rhs[row]
+                T[i, col] = 0.0
+
+
+@njit
+def _ratio_test(T, rhs, basis, col, zero, n):
+    """The leaving row for entering column ``col`` (-1: none, a ray): the minimum of
+    rhs_i / T_ic over T_ic > zero; on a tie the artificial variable's row, else the
+    lexicographically smallest row of the basis inverse (columns 0..n-1) over T_ic."""
+    best = -1
+    ratio = np.inf
+    for i in range(T.shape[0]):
+        if T[i, col] > zero:
+            r = max(rhs[i], 0.0) / T[i, col]
+            if r < ratio:
+                ratio = r
+    if ratio == np.inf:
+        return -1
+    tie = _TIE * max(ratio, 1e-300)
+    for i in range(T.shape[0]):
+        if T[i, col] > zero and max(rhs[i], 0.0) / T[i, col] <= ratio + tie:
+            if basis[i] == 2 * n:
+                return i
+            if best < 0 or _lex_less(T, i, best, col, n):
+                best = i
+    return best
+
+
+@njit
+def _lex_less(T, a, b, col, n):
+    """Whether row a of the basis inverse over T[a, col] is lexicographically below b's."""
+    for j in range(n):
+        x, y = T[a, j] / T[a, col], T[b, j] / T[b, col]
+        if x < y - 1e-15 * (abs(x) + abs(y)):
+            return True
+        if x > y + 1e-15 * (abs(x) + abs(y)):
+            return False
+    return False
+
+
+def solve(M: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, int]:
+    """(z, status) of the LCP (M, q) by :func:`lemke_perturbed` (float64 copies)."""
+    M = np.ascontiguousarray(M, dtype=float)
+    q = np.ascontiguousarray(q, dtype=float)
+    z = np.zeros(q.size)
+    return z, int(lemke_perturbed(M, q, z))

@@ -1,0 +1,125 @@
+"""Friction transitions inside a trial step, located like impacts (issue #15).
+
+Why: a trial step integrates each frictional contact in the mode its frame gave it
+(runtime.solve.friction). Where a contact changes mode inside the step, the right-hand side
+changes its formula, and a step across that instant would be first order at best. So the
+instant is found and the island restarts there with a new frame (which decides the new modes):
+
+* slip -> stick: a sliding contact's v_t reaches 0, i.e. s v_t (s its sliding sign) falls from
+  > 0 to <= 0: located by runtime.step.events.locate (safeguarded Newton, slope s a_t from the
+  forces at each point) until |v_t| <= settings.STICK_SPEED x settings.STICK_LOCATE;
+* stick -> slip: a sticking contact's hold needs more than mu f_n (the friction LCP's slack
+  becomes positive, runtime.solve.friction_lcp): a predicate of the state, not a smooth
+  function (two corners of a box share their friction in any split), so bisected to
+  settings.SLIP_TIME of the step, ending on the side where it slips -- the new frame then sees it
+  slip and lets it slide.
+
+Each point re-integrates the island's trial from its start, as for impacts, so the restart state
+is a genuine integrator state.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from runtime import settings
+from runtime.solve.friction import FrictionalForces, FrictionProblem
+from runtime.solve.friction_rows import FrictionRowEvaluator
+from runtime.step.events import locate
+
+
+class FrictionEvents:
+    """The first friction transition of each island within a trial step."""
+
+    def __init__(
+        self,
+        evaluator: FrictionRowEvaluator,
+        forces: FrictionalForces,
+        fixed: np.ndarray,
+        refresh: Callable,
+    ) -> None:
+        """``refresh(contacts, poses)``: the contacts with an oval's point found again there
+        (runtime.step.collision.Collision.refresh_ovals), as the trial's right-hand side does."""
+        self.evaluator, self.forces, self.fixed, self.refresh = evaluator, forces, fixed, refresh
+        self.with_gaps = forces.stabilisation is not None
+
+    def first(
+        self,
+        problem: FrictionProblem,
+        h: float,
+        island_of_body: np.ndarray,
+        trajectory: Callable[[int], object],
+    ) -> dict[int, float]:
+        """{island: time from the trial's start of its first friction transition}."""
+        slide = problem.slide
+        contacts = problem.contacts
+        if slide is None or len(contacts) == 0:
+            return {}
+        mu = self.evaluator.friction
+        frictional = np.sqrt(mu[contacts.body1] * mu[contacts.body2]) > 0
+        moving = np.where(self.fixed[contacts.body1], contacts.body2, contacts.body1)
+        island = island_of_body[moving]
+        found: dict[int, float] = {}
+        for g in np.unique(island[frictional & (island >= 0)]).tolist():
+            members = island == g
+            sub = problem.subset(members)
+            state = self._state(sub, trajectory(g))
+            times = [self._slip_to_stick(sub, state, h), self._stick_to_slip(sub, state, h)]
+            times = [t for t in times if t is not None]
+            if times:
+                found[g] = min(times)
+        return found
+
+    def _state(self, sub: FrictionProblem, traj) -> Callable:
+        """t -> the island's friction solution at its trajectory's state at t."""
+        cache: dict[float, object] = {}
+
+        def at(t: float):
+            if t not in cache:
+                q, v = traj.at(t)
+                contacts = self.refresh(sub.contacts, q)
+                rows = self.evaluator.rows(contacts, q, v, self.with_gaps)
+                cache[t] = (rows, self.forces.solve(sub, rows))
+            return cache[t]
+
+        return at
+
+    def _slip_to_stick(self, sub: FrictionProblem, state, h: float) -> float | None:
+        sliding = np.flatnonzero(sub.slide != 0)
+        if sliding.size == 0:
+            return None
+        rows_end, _ = state(h)
+        ends = sub.slide[sliding] * rows_end.tangent_velocity[sliding]
+        earliest = None
+        for k in sliding[ends <= 0].tolist():
+            s = float(sub.slide[k])
+
+            def speed(t: float, k=k, s=s) -> tuple[float, float]:
+                rows, solution = state(t)
+                return s * float(rows.tangent_velocity[k]), s * float(
+                    solution.tangent_accelerations[k]
+                )
+
+            start, end = speed(0.0)[0], speed(h)[0]
+            guess = h * start / (start - end) if start > end else h
+            t, _ = locate(
+                speed, 0.0, h, guess,
+                gap_tol=settings.STICK_SPEED * settings.STICK_LOCATE,
+                time_tol=settings.TIME_EPS * np.finfo(float).eps * h,
+            )  # fmt: skip
+            earliest = t if earliest is None else min(earliest, t)
+        return earliest
+
+    def _stick_to_slip(self, sub: FrictionProblem, state, h: float) -> float | None:
+        if not state(h)[1].slips.any():
+            return None
+        lo, hi = 0.0, h
+        while hi - lo > settings.SLIP_TIME * h:
+            mid = 0.5 * (lo + hi)
+            if state(mid)[1].slips.any():
+                hi = mid
+            else:
+                lo = mid
+        return hi

@@ -315,9 +315,28 @@ def main(argv: Sequence[str] | None = None, prog: str = PROG) -> int:
     except KeyboardInterrupt as exc:
         _say(sys.stderr, prog, str(exc) or "interrupted")
         return 143 if isinstance(exc, Terminated) else 130
+    except ImportError as exc:  # a library's C extension interrupted while it loaded
+        interrupt = _interrupt_behind(exc)
+        if interrupt is None:
+            raise
+        _say(sys.stderr, prog, str(interrupt) or "interrupted")
+        return 143 if isinstance(interrupt, Terminated) else 130
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+
+
+def _interrupt_behind(exc: BaseException) -> KeyboardInterrupt | None:
+    """The Ctrl-C or SIGTERM an exception stems from: one that arrives while a C extension
+    initialises (scipy's HiGHS, on the first scene load) surfaces as "ImportError:
+    initialization failed", and a later import of the half-loaded package fails again."""
+    seen: set[int] = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return None
 
 
 if __name__ == "__main__":

@@ -196,3 +196,29 @@ def test_progress_goes_to_a_log_when_stderr_is_not_a_terminal(
         == 0
     )
     assert capsys.readouterr().err == ""
+
+
+def test_an_interrupt_inside_a_c_extension_import_is_one_line(monkeypatch, capsys):
+    """Ctrl-C while scipy's HiGHS extension initialises surfaces as "ImportError:
+    initialization failed" (and the next import of the half-loaded package fails again): the
+    command still ends as interrupted, status 130, one line; another ImportError is not hidden."""
+
+    def interrupted_import(args, prog):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt:
+            try:
+                raise ImportError("initialization failed")
+            except ImportError:
+                raise ImportError("cannot import name 'SceneError'") from None
+
+    monkeypatch.setattr(cli, "run_command", interrupted_import)
+    assert cli.main(["scene.toml"]) == 130
+    assert capsys.readouterr().err.strip().splitlines() == ["simulate: interrupted"]
+
+    def broken(args, prog):
+        raise ImportError("no module named 'foo'")
+
+    monkeypatch.setattr(cli, "run_command", broken)
+    with pytest.raises(ImportError, match="foo"):
+        cli.main(["scene.toml"])

@@ -328,9 +328,9 @@ class Stepper:
         stay within (else :class:`_Merge`); ``t0``: time of q from the step's start."""
         elapsed, events = 0.0, 0
         while True:
-            remaining = h - elapsed
-            if remaining <= 0.0:  # the last impact fell on the step's end (by rounding): done
-                return q, v
+            # an impact located on the step's end can leave elapsed past h by rounding: the
+            # rest of the step is then empty, as when it ends there exactly (not negative)
+            remaining = max(h - elapsed, 0.0)
             margin = sweep.margins(v, remaining, self.radii, self.moving, self.gravity)
             if reach is not None:
                 moved = sweep.displacement(reach[0], q, self.radii)

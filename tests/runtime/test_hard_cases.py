@@ -685,9 +685,9 @@ def test_an_impact_located_on_the_step_end_finishes_the_step():
     """A soak scene (Euler, 0.49 s steps, found at 30x coarse steps): an impact located by
     rounding at the step's very end left h - elapsed = -1e-16 s, whose negative reach the
     contact finder refused ("margins must be finite and >= 0") as a failure at t = 10.3 s. Now
-    the step ends there and the next one resolves the impact: 12 s run without a failure; the
-    restitution-0 box lands and slides on (frictionless: its horizontal velocity is kept, its
-    vertical one gone to 1e-9 of the 28 m/s it fell at)."""
+    the rest of the step is empty, as when it ends on the impact exactly: 12 s without a
+    failure; the restitution-0 box lands and slides on (frictionless: its horizontal velocity is
+    kept, its vertical one gone to 1e-9 of the 28 m/s it fell at)."""
     data = json.loads((Path(__file__).parent / "data" / "impact_on_step_end.json").read_text())
     run = runtime.simulate(runtime.scene_from_dict(data, source="soak"))
     assert run.t[-1] == pytest.approx(12.0)

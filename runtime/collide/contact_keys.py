@@ -16,6 +16,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from runtime.compiled import CHECK_CALLS
+
 KINDS = 3  # VERTEX, EDGE, END (runtime.collide.contact_set)
 
 
@@ -38,7 +40,7 @@ class ContactKeys:
         if not self.packed:
             return list(map(tuple, contacts.keys().tolist()))
         feature = contacts.feature
-        if len(feature) and not (
+        if CHECK_CALLS and len(feature) and not (  # the finder's own bug: checked in the tests
             0 <= feature[:, 1::2].min() and feature[:, 1::2].max() < self.width
             and 0 <= feature[:, ::2].min() and feature[:, ::2].max() < KINDS
         ):  # fmt: skip

@@ -163,6 +163,9 @@ HOLD = 100.0  # relative to TOUCH: a resting contact that drifted open this far 
 DRIFT = 1e-3  # relative to the free-fall distance g dt^2 / 2 of one step: how far the integrator
 # may carry a resting contact off a curved surface in a step and still hold it
 MAX_WAVES = 200  # restitution waves of simultaneous impulses before the final plastic pass
+PRESS_RANK = 1e-10  # relative to the largest singular value of an island's B = J M^-1/2: a
+# press (runtime.step.resting.project_island) leaves the directions below it alone -- d' has no
+# part there beyond rounding (d' = B M^1/2 v), and resolving them would divide rounding by them
 SETTLE_ROUNDS = 8  # press/lift rounds of runtime.step.resting before a step goes on
 
 # -- events and integration -------------------------------------------------------------------

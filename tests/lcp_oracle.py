@@ -108,6 +108,11 @@ def brute_force(A, b, joint, tol: float = 1e-9) -> list[tuple[np.ndarray, np.nda
     return found
 
 
+class OracleUndecided(ArithmeticError):
+    """The oracle's own rounding decides the answer (b at rounding level of A f, say): no
+    reference for this problem."""
+
+
 def least_norm_qp(A, b, joint, a, held_tol: float) -> np.ndarray:
     """min |f|^2 over the solutions with acceleration a: f = 0 where a_i > held_tol, A_PP f_P =
     -b_P on the held rows P, f >= 0 at contacts. By SVD, f = p + N z with p the pseudo-inverse
@@ -141,6 +146,7 @@ def least_norm_qp(A, b, joint, a, held_tol: float) -> np.ndarray:
     e[k] = 1.0
     u, _ = nnls(M, e, maxiter=100 * M.shape[1])
     residual = M @ u - e
-    assert abs(residual[k]) > 1e-12, "the least-distance problem is infeasible"
+    if not abs(residual[k]) > 1e-12:  # feasible (a solution is known): p's rounding cut it off
+        raise OracleUndecided("the least-distance problem is infeasible after rounding")
     f[idx] = particular + top * (N @ (-residual[:k] / residual[k]))
     return f

@@ -7,7 +7,7 @@ in contact) that is microseconds of arithmetic, which stage by stage from Python
 of microseconds of calls. This is the same policy as runtime.step.classify (modes, restitution
 waves, the plastic pass) and runtime.step.resting (press and lift rounds) -- the island-level
 algorithms are shared: runtime.step.classify.classify_modes, runtime.solve.impulses.resolve_
-island and runtime.step.resting.press_island are the compiled functions both paths call -- for
+island and runtime.step.resting.project_island are the compiled functions both paths call -- for
 scenes whose every island has at most settings.DENSE_ISLAND contacts. It reports False when an
 island is larger or a contact problem has no solution, and the caller builds the frame the
 general way (which names the failure).
@@ -29,7 +29,7 @@ from runtime.solve.impulses import resolve_island
 from runtime.solve.islands import _labels
 from runtime.solve.kernel_set import all_by_case
 from runtime.step.classify import LIFTING, OPEN, RESTING, classify_modes
-from runtime.step.resting import press_island
+from runtime.step.resting import project_island
 
 
 @njit
@@ -71,8 +71,7 @@ def _kinetic(mass, fixed, v):
 def _velocity_change(jac, body1, body2, inv_mass, members, p, v, rate):
     """v += W J^T p for the contacts ``members`` with impulses p, and rate (d' of every
     contact) += J dv."""
-    n = v.shape[0]
-    dv = np.zeros((n, 3))
+    dv = np.zeros(v.shape)
     for q in range(members.size):
         k, f = members[q], p[q]
         if f == 0.0:
@@ -81,13 +80,19 @@ def _velocity_change(jac, body1, body2, inv_mass, members, p, v, rate):
         for c in range(3):
             dv[i, c] += inv_mass[i, c] * jac[k, c] * f
             dv[j, c] += inv_mass[j, c] * jac[k, 3 + c] * f
+    _add_velocity(jac, body1, body2, dv, v, rate)
+
+
+@njit
+def _add_velocity(jac, body1, body2, dv, v, rate):
+    """v += dv, and rate (d' of every contact) += J dv."""
     for k in range(rate.size):
         i, j = body1[k], body2[k]
         s = 0.0
         for c in range(3):
             s += jac[k, c] * dv[i, c] + jac[k, 3 + c] * dv[j, c]
         rate[k] += s
-    for i in range(n):
+    for i in range(v.shape[0]):
         for c in range(3):
             v[i, c] += dv[i, c]
 
@@ -193,8 +198,8 @@ def _gap_acceleration(jac, body1, body2, bias, acc, k):
 
 @njit
 def _press(jac, body1, body2, inv_mass, fixed, modes, pressed, rate, limit, v, impulses):
-    """d' = 0 on the ``pressed`` resting contacts, d' >= 0 on the other resting contacts of
-    their islands, by impulses (press_island); False if it cannot."""
+    """d' = 0 on every resting contact of the islands of the ``pressed`` ones, by impulses
+    (project_island, the policy of runtime.step.resting); False if it cannot."""
     n = v.shape[0]
     rest = np.flatnonzero(modes == RESTING)
     labels = _contact_labels(n, body1, body2, fixed, rest)
@@ -202,18 +207,17 @@ def _press(jac, body1, body2, inv_mass, fixed, modes, pressed, rate, limit, v, i
     for g in range(offsets.size - 1):
         start, stop = offsets[g], offsets[g + 1]
         island = members[start:stop]
-        joint = pressed[island]
-        if not np.any(joint):
+        if not np.any(pressed[island]):
             continue
         if stop - start > limit:
             return False
-        A = _block(jac, body1, body2, inv_mass, fixed, members, start, stop)
-        p = np.zeros(island.size)
-        if not press_island(A, rate[island].copy(), joint, p):
+        p, dv = np.zeros(island.size), np.zeros(v.shape)
+        if not project_island(np.ascontiguousarray(jac[island]), body1[island], body2[island],
+                              inv_mass, fixed, rate[island].copy(), p, dv):  # fmt: skip
             return False
         for q in range(island.size):
             impulses[island[q]] += p[q]
-        _velocity_change(jac, body1, body2, inv_mass, island, p, v, rate)
+        _add_velocity(jac, body1, body2, dv, v, rate)
     return True
 
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from lcp_oracle import Contact, G, contact_matrix, least_norm_qp, row_violation
+from lcp_oracle import Contact, G, OracleUndecided, contact_matrix, least_norm_qp, row_violation
 
 from runtime.settings import LCP_FLOOR, LCP_TOL
 from runtime.solve import lcp, lcp_dense
@@ -111,7 +111,10 @@ def test_least_norm_matches_an_independent_qp(problem) -> None:
         spectrum = np.linalg.eigvalsh(D[:, None] * A[np.ix_(P, P)] * D[None, :])
         assume(not np.any((spectrum > 1e-12 * spectrum[-1]) & (spectrum < 1e-5 * spectrum[-1])))
     f = lcp.solve(A, b, joint)
-    reference = least_norm_qp(A, b, joint, a0, held_tol=0.0)
+    try:
+        reference = least_norm_qp(A, b, joint, a0, held_tol=0.0)
+    except OracleUndecided:  # seen under xdist only: b ~ 1e-15, SVD rounding decides
+        assume(False)
     slack = 1e-7 + _force_accuracy(A[np.ix_(P, P)]) if P.any() else 1e-7
     top = max(np.max(np.abs(reference)), np.max(np.abs(f0)))
     # the oracle's own rank decision (SVD) can be ambiguous too: a reference that pulls on a

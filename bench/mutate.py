@@ -131,9 +131,20 @@ def _run(command: list[str], work: Path, env: dict, timeout: float):
     return process.returncode, out
 
 
-def _pytest(targets: str, work: Path, env: dict, timeout: float):
+def _pytest(targets: list[str], work: Path, env: dict, timeout: float):
     command = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider"]
-    return _run(command + targets.split(), work, env, timeout)
+    return _run(command + targets, work, env, timeout)
+
+
+def last_killers(readme: Path = README) -> dict[str, str]:
+    """Mutant -> the test that killed it in the last run (bench/README.md's table)."""
+    found = re.search(rf"^{SECTION}\n(.*?)(?=^## |\Z)", readme.read_text(), flags=re.M | re.S)
+    killers = {}
+    for row in (found[1] if found else "").splitlines():
+        cells = [c.strip().replace("\\|", "|") for c in re.split(r"(?<!\\)\|", row)[1:-1]]
+        if len(cells) >= 4 and cells[2] == "killed" and "::" in cells[-1]:
+            killers[cells[0].strip("`")] = cells[-1]
+    return killers
 
 
 def _first_failure(output: str) -> str:
@@ -149,9 +160,13 @@ def _check_imports(work: Path, env: dict) -> None:
         raise SystemExit(f"mutate: the scratch copy is not what Python imports: {out.strip()}")
 
 
-def run_mutant(mutant: Mutant, files, pristine: Path, work: Path, env, timeout, warm) -> Outcome:
+def run_mutant(
+    mutant: Mutant, files, pristine: Path, work: Path, env, timeout, warm, first=""
+) -> Outcome:
     """Apply `mutant` to a fresh copy of `pristine` in `work` and run its tests there, with a
-    copy of the `warm` cache folder less what the mutant can change (cold without one)."""
+    copy of the `warm` cache folder less what the mutant can change (cold without one). The
+    test `first` (the last run's killer) runs alone first: the fastest way to the first failure
+    when it still kills; the named tests run when it passes (or is gone)."""
     start = time.perf_counter()
     _copy_tree(files, pristine, work)
     target = work / mutant.path
@@ -174,7 +189,11 @@ def run_mutant(mutant: Mutant, files, pristine: Path, work: Path, env, timeout, 
     if warm is not None:
         dropped = warm_copy(warm, cache_folder(work, env), work, stale_files(pristine, work))
         state = f"warm -{dropped}" if dropped else "warm"
-    rc, out = _pytest(mutant.tests, work, env, timeout)
+    rc = 0
+    if first:
+        rc, out = _pytest([first], work, env, timeout - (time.perf_counter() - start))
+    if rc not in (1, None):
+        rc, out = _pytest(mutant.tests.split(), work, env, timeout - (time.perf_counter() - start))
     if rc is None:
         return outcome("timeout", f"tests still running after {timeout:.0f} s")
     if rc == 0:
@@ -184,10 +203,10 @@ def run_mutant(mutant: Mutant, files, pristine: Path, work: Path, env, timeout, 
     return outcome("error", f"pytest exit {rc}: {_first_failure(out)}")
 
 
-def _baseline_targets(chosen: list[Mutant]) -> str:
+def _baseline_targets(chosen: list[Mutant]) -> list[str]:
     """Every named test once: a test id (file::name) is dropped when its file is named too."""
     named = dict.fromkeys(t for m in chosen for t in m.tests.split())
-    return " ".join(t for t in named if "::" not in t or t.split("::")[0] not in named)
+    return [t for t in named if "::" not in t or t.split("::")[0] not in named]
 
 
 def section(outcomes: list[Outcome], wall: float, load: tuple[float, float]) -> str:
@@ -272,8 +291,11 @@ def main(argv: list[str] | None = None) -> int:
             warm = cache_folder(work, warm_env)
             print(f"baseline: the named tests pass ({time.perf_counter() - start:.0f} s)")
         outcomes = []
+        killers = last_killers()
         for m in chosen:
-            o = run_mutant(m, files, pristine, work, env, args.timeout, warm)
+            o = run_mutant(
+                m, files, pristine, work, env, args.timeout, warm, killers.get(m.name, "")
+            )
             outcomes.append(o)
             print(
                 f"{o.status:8s} {m.name:42s} {o.seconds:6.1f} s {o.cache:4s}  {o.detail}",

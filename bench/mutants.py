@@ -49,6 +49,8 @@ IMPULSES = "runtime/solve/impulses.py"
 IMPACTS = "tests/runtime/test_collisions.py tests/runtime/test_moving_pairs.py"
 CONTACTS = "tests/runtime/test_contacts.py tests/runtime/test_contact_properties.py"
 EVENTS = "runtime/step/events.py"
+GUESS = "tests/runtime/test_warm_guess.py tests/runtime/test_physics.py tests/runtime/test_collisions.py"
+COMPOUND = "tests/runtime/test_compound.py tests/runtime/test_shapes.py tests/runtime/test_scene.py"
 
 # fmt: off
 MUTANTS: list[Mutant] = [
@@ -108,8 +110,8 @@ MUTANTS: list[Mutant] = [
     Mutant("lcp:max-step-sign", BARAFF, "elif state[i] == NOT_CLAMPED and da[i] < -noise_a:", "elif state[i] == NOT_CLAMPED and da[i] > noise_a:", LCP, "maxstep: a free contact limits the step when it separates, not when it closes"),
     Mutant("lcp:clamped-row-one-sided", BARAFF, "if not abs(a[i]) <= tol_a[i]:", "if not a[i] <= tol_a[i]:", LCP, "complementarity: a pushed row accepted with a < 0 (still penetrating)"),
     Mutant("lcp:least-norm-pulls", "runtime/solve/lcp_minnorm.py", "if jR[c] or u > 0.0:\n            fR[c]", "if jR[c] or u != 0.0:\n            fR[c]", LCP, "least norm: a redundant contact's force not clipped at 0"),
-    Mutant("lcp:guess-single-row-pulls", ASSEMBLY, "if f[k] < 0.0:", "if f[k] < -np.inf:", "tests/runtime/test_physics.py tests/runtime/test_collisions.py", "the engine's guessed island with one clamped row keeps a pulling force (a body that should lift off)"),
-    Mutant("lcp:guess-one-row-island-pulls", ASSEMBLY, "if f[0] < 0.0:", "if f[0] < -np.inf:", "tests/runtime/test_physics.py tests/runtime/test_collisions.py", "the engine's guessed one-row island keeps a pulling force (a body that should lift off)"),
+    Mutant("lcp:guess-single-row-pulls", ASSEMBLY, "if f[k] < 0.0:", "if f[k] < -np.inf:", GUESS, "the engine's guessed island with one clamped row keeps a pulling force (a body that should lift off)"),
+    Mutant("lcp:guess-one-row-island-pulls", ASSEMBLY, "if f[0] < 0.0:", "if f[0] < -np.inf:", GUESS, "the engine's guessed one-row island keeps a pulling force (a body that should lift off)"),
     Mutant("assembly:reaction-sign", ASSEMBLY, "acc[j, c] += inv_mass[j, c] * jac[k, 3 + c] * f", "acc[j, c] -= inv_mass[j, c] * jac[k, 3 + c] * f", IMPACTS + " tests/runtime/test_physics.py", "body 2's reaction (force and impulse) with the wrong sign"),
     # runtime/solve/impulses.py
     Mutant("impulses:restitution-factor", IMPULSES, "(1.0 + restitution[wave]) * rate[wave]", "restitution[wave] * rate[wave]", IMPACTS, "Newton's law with e instead of (1 + e)"),
@@ -125,6 +127,14 @@ MUTANTS: list[Mutant] = [
     Mutant("events:locate-one-step-early", EVENTS, "gap_tol=settings.TOUCH_LOCATE * self.touch", "gap_tol=self.touch", IMPACTS, "the impact accepted at the touch gap, not a thousandth of it: about one Newton step early", within="bracket.guess,"),
     Mutant("events:cubic-bisection-side", EVENTS, "if (fm < 0.0) == (f0 < 0.0):", "if (fm < 0.0) != (f0 < 0.0):", IMPACTS, "the compiled cubic roots: bisection keeps the half without the root"),
     Mutant("events:dip-bracket-side", EVENTS, "if v < 0:\n            t0, g0, v0 = t, g, v", "if v > 0:\n            t0, g0, v0 = t, g, v", IMPACTS, "a near graze: the dip search narrows to the wrong side"),
+    # mass properties of compound bodies and of a given centre of mass; the bodies' inverse masses
+    Mutant("shapes:compound-no-parallel-axis", SHAPE, "jc = math.fsum(p.second_moment_about((cx, cy)) for p in parts)", "jc = math.fsum(p.second_moment for p in parts)", COMPOUND, "a compound's moment: the parts' own moments summed, without the parallel-axis terms"),
+    Mutant("shapes:moment-about-point-sign", SHAPE, "return self.second_moment + self.area * (dx * dx + dy * dy)", "return self.second_moment - self.area * (dx * dx + dy * dy)", COMPOUND, "the second moment about a point: the parallel-axis term subtracted"),
+    Mutant("scene:inertia-about-centroid", "runtime/model/scene.py", "inertia = float(mass) * shape.second_moment_about(offset) / float(shape.area)", "inertia = float(mass) * shape.second_moment / float(shape.area)", COMPOUND, "a given centre of mass: the inertia about the centroid, not about that point"),
+    Mutant("scene:inverse-masses-rows", "runtime/model/scene.py", "(b.inverse_mass, b.inverse_mass, b.inverse_inertia)", "(b.inverse_mass, b.inverse_inertia, b.inverse_mass)", STEPPING + " " + IMPACTS, "W = diag(1/m, 1/I, 1/m): the inverse inertia on y, the inverse mass on the rotation"),
+    # the impulses' final inelastic pass and the effective-mass matrix of several contacts
+    Mutant("impulses:final-pass-not-applied", IMPULSES, "    total += p\n    rate += A @ p\n    return waves", "    rate += A @ p\n    return waves", IMPACTS, "the final inelastic pass's impulses counted in d' but never applied to the bodies"),
+    Mutant("assembly:island-matrix-half", ASSEMBLY, "if a != b or side_a != side_b:", "if side_a != side_b:", IMPACTS + " tests/runtime/test_physics.py", "A of several contacts on one body: a pair on the same side of it filled on one side of the diagonal"),
 ]
 # fmt: on
 

@@ -134,7 +134,7 @@ MUTANTS: list[Mutant] = [
     Mutant("scene:inverse-masses-rows", "runtime/model/scene.py", "(b.inverse_mass, b.inverse_mass, b.inverse_inertia)", "(b.inverse_mass, b.inverse_inertia, b.inverse_mass)", STEPPING + " " + IMPACTS, "W = diag(1/m, 1/I, 1/m): the inverse inertia on y, the inverse mass on the rotation"),
     # the impulses' final inelastic pass and the effective-mass matrix of several contacts
     Mutant("impulses:final-pass-not-applied", IMPULSES, "    total += p\n    rate += A @ p\n    return waves", "    rate += A @ p\n    return waves", IMPACTS, "the final inelastic pass's impulses counted in d' but never applied to the bodies"),
-    Mutant("assembly:island-matrix-half", ASSEMBLY, "if a != b or side_a != side_b:", "if side_a != side_b:", IMPACTS + " tests/runtime/test_physics.py", "A of several contacts on one body: a pair on the same side of it filled on one side of the diagonal"),
+    Mutant("assembly:island-matrix-half", ASSEMBLY, "if a != b or side_a != side_b:", "if side_a != side_b:", "tests/runtime/test_warm_guess.py " + IMPACTS, "A of several contacts on one body: a pair on the same side of it filled on one side of the diagonal"),
 ]
 # fmt: on
 

@@ -1,5 +1,7 @@
-"""The engine's warm-started island solve (runtime.solve.assembly.solve_with_guess, the first
-try of every small island at every step) accepts a guessed clamped set only when its forces
+"""The compiled assembly and warm-started solve of a small island (runtime.solve.assembly).
+
+island_matrix is A = J M^-1 J^T of the oracle's contact_matrix. The warm-started solve
+(solve_with_guess, the first try of every small island at every step) accepts a guessed clamped set only when its forces
 satisfy the contact conditions: every force pushes (f >= 0), each clamped row has d'' = 0 and
 each free row d'' >= 0. References: the brute-force enumeration and the row violations of
 tests/lcp_oracle.py (nothing of runtime.solve), on islands of random bodies and contacts.
@@ -19,7 +21,7 @@ import pytest
 from lcp_oracle import Contact, brute_force, contact_matrix, row_violation
 
 from runtime import settings
-from runtime.solve.assembly import solve_with_guess
+from runtime.solve.assembly import island_matrix, solve_with_guess
 
 TOL = settings.LCP_TOL
 
@@ -37,6 +39,36 @@ def _island(rng: np.random.Generator, size: int) -> tuple[np.ndarray, np.ndarray
         contacts.append(Contact(body1, body2, normal, tuple(lever1), tuple(lever2)))
     A, _, _ = contact_matrix(rng.uniform(0.5, 3.0, 2), rng.uniform(0.05, 0.5, 2), contacts)
     return np.ascontiguousarray(A), rng.normal(size=size) * 10.0
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_island_matrix_is_j_m_inverse_j_transposed(seed):
+    """Six contacts among three moving bodies and the ground (a fixed body), several on the
+    same body and the same side of their contact: the engine's rows give the oracle's A."""
+    rng = np.random.default_rng(seed)
+    masses, inertias = rng.uniform(0.5, 3.0, 3), rng.uniform(0.05, 0.5, 3)
+    contacts = []
+    for _ in range(6):
+        body1 = int(rng.integers(3))
+        body2 = int(rng.choice([-1, *(b for b in range(3) if b != body1)]))
+        angle = rng.uniform(0, 2 * np.pi)
+        levers = rng.uniform(-0.5, 0.5, (2, 2))
+        contacts.append(Contact(body1, body2, (np.cos(angle), np.sin(angle)), *map(tuple, levers)))
+    A, J, _ = contact_matrix(masses, inertias, contacts)
+    ground = 3  # the engine's fixed body: inverse masses 0
+    body1 = np.array([c.body1 for c in contacts])
+    body2 = np.array([c.body2 if c.body2 >= 0 else ground for c in contacts])
+    jac = np.zeros((len(contacts), 6))
+    for k, c in enumerate(contacts):
+        jac[k, :3] = J[k, 3 * c.body1 : 3 * c.body1 + 3]
+        if c.body2 >= 0:
+            jac[k, 3:] = J[k, 3 * c.body2 : 3 * c.body2 + 3]
+    inverse = np.zeros((4, 3))
+    inverse[:3] = np.column_stack([1 / masses, 1 / masses, 1 / inertias])
+    fixed = np.array([False, False, False, True])
+    engine = np.empty((6, 6))
+    island_matrix(jac, body1, body2, inverse, fixed, 0, 6, engine)
+    np.testing.assert_allclose(engine, A, rtol=1e-12, atol=1e-12 * np.max(np.abs(A)))
 
 
 def _guessed(A: np.ndarray, b: np.ndarray, guess: np.ndarray) -> tuple[bool, np.ndarray]:

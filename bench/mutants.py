@@ -33,6 +33,7 @@ ARCS_FIRST = "tests/runtime/test_arcs.py " + ORACLE  # the engine scenes must ca
 COMPILED = "tests/generated/test_compiled_kernels.py"
 SHAPES = "tests/runtime/test_shapes.py tests/runtime/test_arcs.py"
 STEPPING = "tests/runtime/test_arcs.py tests/runtime/test_physics.py"
+INTEGRATORS = "tests/runtime/test_integrators.py " + STEPPING  # the general path's integrators
 DERIVATION = "derive/derivation.py"
 CC = "generated/circle_circle.py"
 VC = "generated/vertex_circle.py"
@@ -95,11 +96,11 @@ MUTANTS: list[Mutant] = [
     Mutant("shapes:centroid-y", SHAPE, "cx, cy = ox + mx, oy + my", "cx, cy = ox + mx, oy - my", SHAPES, "the centroid's y from the wrong side"),
     Mutant("scene:inertia-no-area", "runtime/model/scene.py", "float(self.shape.second_moment) / float(self.shape.area)", "float(self.shape.second_moment)", SHAPES, "inertia = m J (J per unit density, not per unit mass)"),
     # runtime/step/integrators.py
-    Mutant("integrators:rk4-a3", STEP, "a3 = rhs(q + half * v2, v3)", "a3 = rhs(q + half * v, v3)", STEPPING, "RK4's third stage at the first stage's positions (still consistent, lower order)"),
-    Mutant("integrators:rk4-a4", STEP, "a4 = rhs(q + h * v3, v4)", "a4 = rhs(q + h * v2, v4)", STEPPING, "RK4's last stage from the second stage's velocity"),
-    Mutant("integrators:rk4-weights", STEP, "v + sixth * (a1 + 2.0 * (a2 + a3) + a4)", "v + sixth * (a1 + 3.0 * a2 + a3 + a4)", STEPPING, "RK4's weights (sum still 6)"),
-    Mutant("integrators:midpoint-full-step", STEP, "qm, vm = q + half * v, v + half * a1", "qm, vm = q + h * v, v + h * a1", STEPPING, "midpoint evaluated at the end of the step"),
-    Mutant("integrators:euler-half", STEP, "return q + h * v, v + h * a1", "return q + h * v, v + 0.5 * h * a1", STEPPING, "Euler's velocity with half the step"),
+    Mutant("integrators:rk4-a3", STEP, "a3 = rhs(q + half * v2, v3)", "a3 = rhs(q + half * v, v3)", INTEGRATORS, "RK4's third stage at the first stage's positions (still consistent, lower order)"),
+    Mutant("integrators:rk4-a4", STEP, "a4 = rhs(q + h * v3, v4)", "a4 = rhs(q + h * v2, v4)", INTEGRATORS, "RK4's last stage from the second stage's velocity"),
+    Mutant("integrators:rk4-weights", STEP, "v + sixth * (a1 + 2.0 * (a2 + a3) + a4)", "v + sixth * (a1 + 3.0 * a2 + a3 + a4)", INTEGRATORS, "RK4's weights (sum still 6)"),
+    Mutant("integrators:midpoint-full-step", STEP, "qm, vm = q + half * v, v + half * a1", "qm, vm = q + h * v, v + h * a1", INTEGRATORS, "midpoint evaluated at the end of the step"),
+    Mutant("integrators:euler-half", STEP, "return q + h * v, v + h * a1", "return q + h * v, v + 0.5 * h * a1", INTEGRATORS, "Euler's velocity with half the step"),
     Mutant("compiled:rk4-a3", COMPILED_STEP, "if not accelerations(q0 + half * v2, v3, *args, a3, forces, rates):", "if not accelerations(q0 + half * v0, v3, *args, a3, forces, rates):", STEPPING, "compiled RK4's third stage at the first stage's positions"),
     Mutant("compiled:rk4-weights", COMPILED_STEP, "v0 + sixth * (a0 + 2.0 * (a2 + a3) + a4)", "v0 + sixth * (a0 + 3.0 * a2 + a3 + a4)", STEPPING, "compiled RK4's weights (sum still 6)"),
     Mutant("compiled:midpoint-position", COMPILED_STEP, "q_out[:, :] = q0 + h * v2", "q_out[:, :] = q0 + h * v0", STEPPING, "compiled midpoint: positions advanced with the start's velocity"),

@@ -5,9 +5,9 @@ rigid bodies"), so the solve must end on the pivoting path, not on a fallback, w
 the forces of the brute-force oracle (tests/lcp_oracle.py).
 
 Why: the fallbacks (a fresh start, projected Gauss-Seidel) repair what the pivoting gets wrong,
-so a broken pivoting rule -- maxstep letting a free contact's acceleration go negative
-(the mutant lcp:max-step-sign of bench/mutants.py) -- still returned exact forces, after about 8 times
-the pivots, and every solver test passed.
+so a broken pivoting rule -- maxstep letting a free contact's acceleration go negative (the
+mutant lcp:max-step-sign of bench/mutants.py) -- still returned exact forces, after about 8
+times the pivots, and every solver test passed.
 """
 
 from __future__ import annotations

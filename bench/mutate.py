@@ -128,6 +128,9 @@ def _run(command: list[str], work: Path, env: dict, timeout: float):
         os.killpg(process.pid, signal.SIGKILL)
         process.communicate()
         return None, ""
+    except BaseException:  # interrupted (Ctrl-C, SIGTERM): no test left running
+        os.killpg(process.pid, signal.SIGKILL)
+        raise
     return process.returncode, out
 
 
@@ -258,6 +261,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-baseline", action="store_true", help="skip the unmutated run")
     parser.add_argument("--no-readme", action="store_true", help="do not write bench/README.md")
     args = parser.parse_args(argv)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # the scratch copy is removed
     chosen = [m for m in MUTANTS if not args.only or args.only in m.name]
     if args.list or not chosen:
         for m in chosen:

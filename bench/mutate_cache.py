@@ -15,7 +15,10 @@ built. tests/bench/test_mutate_cache.py checks the import graph against what the
 compiled functions actually name, and that a mutated callee in another file is recompiled.
 
 Compiled functions that take other compiled functions as arguments are keyed by those
-arguments' types (their dispatchers), so they cannot load code compiled around other ones.
+arguments' types (their dispatchers), so they cannot load code compiled around other ones. The
+test suite's own compiled functions (tests/ imports the engine) are followed the same way; a
+test module is also known by its bare name (pytest and tests/conftest.py put its folder on
+sys.path).
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from pathlib import Path
 from numba.core.caching import _CacheLocator
 
 PACKAGES = ("runtime", "generated")  # what runtime/compiled.py hashes into its cache key
+TESTS = "tests"
 
 
 def modules(root: Path) -> dict[str, Path]:
@@ -58,16 +62,29 @@ def _named(name: str, path: Path) -> set[str]:
     return named
 
 
+def _test_modules(root: Path) -> dict[str, Path]:
+    """The test suite's modules, by dotted path from the root."""
+    return {
+        ".".join(p.relative_to(root).with_suffix("").parts): p
+        for p in sorted((root / TESTS).rglob("*.py"))
+    }
+
+
 def import_graph(root: Path) -> dict[str, set[str]]:
-    """Module -> the repository's modules it imports (a package's import runs its __init__)."""
-    known = modules(root)
+    """Module -> the repository's modules it imports (a package's import runs its __init__),
+    for the compiled packages and the test suite."""
+    known = modules(root) | _test_modules(root)
+    aliases: dict[str, set[str]] = {name: {name} for name in known}
+    for name in _test_modules(root):
+        aliases.setdefault(name.rpartition(".")[2], set()).add(name)
     graph = {}
     for name, path in known.items():
         edges = set()
         for target in _named(name, path):
             parts = target.split(".")
-            edges.update(".".join(parts[:k]) for k in range(1, len(parts) + 1))
-        graph[name] = (edges & known.keys()) - {name}
+            for k in range(1, len(parts) + 1):
+                edges |= aliases.get(".".join(parts[:k]), set())
+        graph[name] = edges - {name}
     return graph
 
 
@@ -99,7 +116,7 @@ def changed_files(pristine: Path, work: Path) -> set[str]:
 
 def stale_files(pristine: Path, work: Path) -> set[str]:
     """Files of `work` whose compiled code may differ from `pristine`'s (relative paths)."""
-    known = modules(work)
+    known = modules(work) | _test_modules(work)
     by_path = {str(p.relative_to(work)): m for m, p in known.items()}
     changed = changed_files(pristine, work)
     stale = importers(import_graph(work), {by_path[f] for f in changed if f in by_path})

@@ -44,6 +44,8 @@ SOURCES = {
         "    return gain() * SCALE\n"
     ),
     "runtime/plain.py": "def helper():\n    return 3\n",
+    "tests/helpers.py": "from runtime.caller import force\n",
+    "tests/test_force.py": "from helpers import force\n",  # by bare name, as tests/ do
 }
 PROBE = (
     "from runtime.caller import force\n"
@@ -107,7 +109,9 @@ def test_a_mutant_that_reaches_compiled_code_is_recompiled(
     pristine, work, folder = warm
     _mutate(pristine, work, name, old, new)
     assert changed_files(pristine, work) == {name}
-    assert stale_files(pristine, work) == {name, "runtime/caller.py"}
+    assert stale_files(pristine, work) == {
+        name, "runtime/caller.py", "tests/helpers.py", "tests/test_force.py"
+    }  # fmt: skip
 
     # the hazard: the whole warm cache copied over keeps the unmutated caller's code
     env = _environment(work, tmp_path / "unpruned")

@@ -151,7 +151,9 @@ def last_killers(readme: Path = README) -> dict[str, str]:
 
 
 def _first_failure(output: str) -> str:
-    found = re.search(r"^(?:FAILED|ERROR) (\S+)", output, flags=re.M)
+    found = re.search(
+        r"^(?:FAILED|ERROR) (.+?)(?: - |$)", output, flags=re.M
+    )  # ids may hold spaces
     return found[1] if found else output.strip().splitlines()[-1] if output.strip() else "?"
 
 

@@ -151,9 +151,8 @@ def last_killers(readme: Path = README) -> dict[str, str]:
 
 
 def _first_failure(output: str) -> str:
-    found = re.search(
-        r"^(?:FAILED|ERROR) (.+?)(?: - |$)", output, flags=re.M
-    )  # ids may hold spaces
+    """The first failing test's id (which may hold spaces), or the output's last line."""
+    found = re.search(r"^(?:FAILED|ERROR) (.+?)(?: - |$)", output, flags=re.M)
     return found[1] if found else output.strip().splitlines()[-1] if output.strip() else "?"
 
 

@@ -153,7 +153,7 @@ NOTES = (
     " (--only): `events:dip-bracket-side` survived (tests/runtime/test_moving_pairs.py now checks"
     " shallow asymmetric dips against their exact entry time) and `events:locate-one-step-early`"
     " could not fail at 1 ms steps (the spinning oval now also runs with 0.05 s steps). The run"
-    " of 2026-12-02 01:12 (66 mutants, stopped after 52 to rerun with its fixes) found four"
+    " of 2026-12-02 01:12 (66 mutants, stopped after 52 to rerun with its fixes) found three"
     " kinds of survivor. The five `integrators:` mutants: the engine's scenes now step through"
     " the compiled stages, so runtime/step/integrators.py runs only for friction, joints, ovals"
     " and stabilisation; tests/runtime/test_integrators.py checks each method's order on"

@@ -15,7 +15,7 @@ score, and writes the "## Mutation testing" section of bench/README.md. Exit sta
 score is below --min-score or a mutant no longer applies (its text is gone: update
 bench/mutants.py).
 
-    python -m bench.mutate                        # every mutant (~40 minutes on 2 cores)
+    python -m bench.mutate                        # every mutant (~35 minutes on 2 busy cores)
     python -m bench.mutate --only circle_circle   # mutants whose name contains the text
     python -m bench.mutate --list
 """

@@ -2,7 +2,7 @@
 # make test   : set up .venv and run the tests (incl. the stale check and the PDF build)
 # make bench  : kernel, contact-finding, contact-force, step, target and ensemble benchmarks (bench/README.md)
 # make report : work-precision report against pymunk and Box2D (docs/report/)
-# make mutate : mutation testing (bench/mutants.py; ~20 min, not part of make test)
+# make mutate : mutation testing (bench/mutants.py; ~35 min, not part of make test)
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed

@@ -3,15 +3,19 @@
 Each mutant of bench/mutants.py is applied, one at a time, to a fresh scratch copy of the
 repository (the working tree is never touched; uncommitted files are included), and the tests it
 names run there: `python -m pytest -x -q` with a timeout. A failing test kills the mutant; a
-mutant that passes its tests survives. First the named tests run once on the unmutated copy (the
-baseline must pass, or every mutant would look killed). Each run gets its own numba cache
-(CURVED_EDGE_CACHE), so compiled code is rebuilt from the mutated sources.
+mutant that passes its tests survives; one whose tests outlast --timeout is a timeout (not
+killed: its own line). First the named tests run once on the unmutated copy (the baseline must
+pass, or every mutant would look killed); that run also builds the warm numba cache. A mutant
+starts from a copy of the warm cache without the entries of every compiled function the mutated
+file can reach (bench/mutate_cache.py: its own, and those of the modules that import it,
+directly or through others), so that code is rebuilt from the mutated sources and the rest loads.
 
-Prints killed/survived per mutant (with the test that killed it), the survivors and the score,
-and writes the "## Mutation testing" section of bench/README.md. Exit status 1 when the score is
-below --min-score or a mutant no longer applies (its text is gone: update bench/mutants.py).
+Prints killed/survived/timeout per mutant (with the test that killed it), the survivors and the
+score, and writes the "## Mutation testing" section of bench/README.md. Exit status 1 when the
+score is below --min-score or a mutant no longer applies (its text is gone: update
+bench/mutants.py).
 
-    python -m bench.mutate                        # every mutant (~5 minutes on 2 cores)
+    python -m bench.mutate                        # every mutant (~35 minutes on 2 busy cores)
     python -m bench.mutate --only circle_circle   # mutants whose name contains the text
     python -m bench.mutate --list
 """
@@ -22,6 +26,7 @@ import argparse
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -32,6 +37,7 @@ from pathlib import Path
 from bench.machine import cpu
 from bench.markdown import replace_section
 from bench.mutants import MUTANTS, NOTES, SURVIVOR_NOTES, Mutant
+from bench.mutate_cache import cache_folder, stale_files, warm_copy
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "bench" / "README.md"
@@ -63,13 +69,15 @@ def mutated(mutant: Mutant, text: str) -> str:
 @dataclass
 class Outcome:
     mutant: Mutant
-    status: str  # killed, survived, timeout (counts as killed), error
+    status: str  # killed, survived, timeout (not killed), error
     detail: str
     seconds: float
+    cache: str = ""  # cold (compiled afresh), warm (the baseline's cache), warm -N (without
+    # the entries of N files whose compiled code the mutant can change)
 
     @property
     def killed(self) -> bool:
-        return self.status in ("killed", "timeout")
+        return self.status == "killed"
 
 
 def _repository_files() -> list[str]:
@@ -103,23 +111,48 @@ def _environment(work: Path, cache: Path) -> dict[str, str]:
 
 
 def _run(command: list[str], work: Path, env: dict, timeout: float):
-    """(return code or None on timeout, combined output)."""
+    """(return code or None on timeout, combined output). On a timeout the whole process group
+    is killed: a test's own subprocesses too, which would otherwise hold the pipes open."""
+    process = subprocess.Popen(
+        command,
+        cwd=work,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        start_new_session=True,
+    )
     try:
-        done = subprocess.run(
-            command, cwd=work, env=env, capture_output=True, text=True, timeout=timeout
-        )
+        out, _ = process.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.communicate()
         return None, ""
-    return done.returncode, done.stdout + done.stderr
+    except BaseException:  # interrupted (Ctrl-C, SIGTERM): no test left running
+        os.killpg(process.pid, signal.SIGKILL)
+        raise
+    return process.returncode, out
 
 
-def _pytest(targets: str, work: Path, env: dict, timeout: float):
+def _pytest(targets: list[str], work: Path, env: dict, timeout: float):
     command = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider"]
-    return _run(command + targets.split(), work, env, timeout)
+    return _run(command + targets, work, env, timeout)
+
+
+def last_killers(readme: Path = README) -> dict[str, str]:
+    """Mutant -> the test that killed it in the last run (bench/README.md's table)."""
+    found = re.search(rf"^{SECTION}\n(.*?)(?=^## |\Z)", readme.read_text(), flags=re.M | re.S)
+    killers = {}
+    for row in (found[1] if found else "").splitlines():
+        cells = [c.strip().replace("\\|", "|") for c in re.split(r"(?<!\\)\|", row)[1:-1]]
+        if len(cells) >= 4 and cells[2] == "killed" and "::" in cells[-1]:
+            killers[cells[0].strip("`")] = cells[-1]
+    return killers
 
 
 def _first_failure(output: str) -> str:
-    found = re.search(r"^(?:FAILED|ERROR) (\S+)", output, flags=re.M)
+    """The first failing test's id (which may hold spaces), or the output's last line."""
+    found = re.search(r"^(?:FAILED|ERROR) (.+?)(?: - |$)", output, flags=re.M)
     return found[1] if found else output.strip().splitlines()[-1] if output.strip() else "?"
 
 
@@ -131,14 +164,23 @@ def _check_imports(work: Path, env: dict) -> None:
         raise SystemExit(f"mutate: the scratch copy is not what Python imports: {out.strip()}")
 
 
-def run_mutant(mutant: Mutant, files, pristine: Path, work: Path, env, timeout) -> Outcome:
+def run_mutant(
+    mutant: Mutant, files, pristine: Path, work: Path, env, timeout, warm, first=""
+) -> Outcome:
+    """Apply `mutant` to a fresh copy of `pristine` in `work` and run its tests there, with a
+    copy of the `warm` cache folder less what the mutant can change (cold without one). The
+    test `first` (the last run's killer) runs alone first: the fastest way to the first failure
+    when it still kills; the named tests run when it passes (or is gone)."""
     start = time.perf_counter()
     _copy_tree(files, pristine, work)
     target = work / mutant.path
     target.write_text(mutated(mutant, target.read_text()))
+    cache = Path(env["CURVED_EDGE_CACHE"])
+    shutil.rmtree(cache, ignore_errors=True)
+    state = "cold"
 
     def outcome(status: str, detail: str) -> Outcome:
-        return Outcome(mutant, status, detail, time.perf_counter() - start)
+        return Outcome(mutant, status, detail, time.perf_counter() - start, state)
 
     if mutant.regenerate:
         rc, out = _run([sys.executable, "-m", "derive", "--no-pdf"], work, env, timeout)
@@ -148,7 +190,14 @@ def run_mutant(mutant: Mutant, files, pristine: Path, work: Path, env, timeout) 
             if "proofs fail" in out:
                 return outcome("killed", "the proofs (regenerate-equations refused)")
             return outcome("error", "regenerate-equations: " + out.strip().splitlines()[-1])
-    rc, out = _pytest(mutant.tests, work, env, timeout)
+    if warm is not None:
+        dropped = warm_copy(warm, cache_folder(work, env), work, stale_files(pristine, work))
+        state = f"warm -{dropped}" if dropped else "warm"
+    rc = 0
+    if first:
+        rc, out = _pytest([first], work, env, timeout - (time.perf_counter() - start))
+    if rc not in (1, None):
+        rc, out = _pytest(mutant.tests.split(), work, env, timeout - (time.perf_counter() - start))
     if rc is None:
         return outcome("timeout", f"tests still running after {timeout:.0f} s")
     if rc == 0:
@@ -156,6 +205,12 @@ def run_mutant(mutant: Mutant, files, pristine: Path, work: Path, env, timeout) 
     if rc == 1:
         return outcome("killed", _first_failure(out))
     return outcome("error", f"pytest exit {rc}: {_first_failure(out)}")
+
+
+def _baseline_targets(chosen: list[Mutant]) -> list[str]:
+    """Every named test once: a test id (file::name) is dropped when its file is named too."""
+    named = dict.fromkeys(t for m in chosen for t in m.tests.split())
+    return [t for t in named if "::" not in t or t.split("::")[0] not in named]
 
 
 def section(outcomes: list[Outcome], wall: float, load: tuple[float, float]) -> str:
@@ -167,19 +222,28 @@ def section(outcomes: list[Outcome], wall: float, load: tuple[float, float]) -> 
         " mutants are listed in bench/mutants.py (one line each: file, exact text, replacement,"
         " the tests that should catch it). Each runs against its tests in a scratch copy of the"
         " repository (pytest -x). Tests that only compare files (the stale check) are never"
-        " named: a mutant must be caught by a test of the physics or the mathematics.",
+        " named: a mutant must be caught by a test of the physics or the mathematics."
+        " Each starts from a copy of the numba cache the unmutated baseline run built, less"
+        " the entries of the compiled functions the mutated file can reach (warm -N: those of"
+        " N files dropped; bench/mutate_cache.py). A timeout is not a kill.",
         "",
         f"Run {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} on {cpu()}; "
         f"{len(outcomes)} mutants in {wall / 60:.1f} min (load average {load[0]:.1f} before, "
         f"{load[1]:.1f} after). **Score: {killed}/{len(outcomes)} killed "
         f"({100 * killed / max(len(outcomes), 1):.1f} %).**",
         "",
-        "| mutant | the bug it models | result | caught by |",
-        "|---|---|---|---|",
+        "| mutant | the bug it models | result | seconds (cache) | caught by |",
+        "|---|---|---|---|---|",
     ]
     for o in outcomes:
         caught = o.detail if o.killed else ""
-        cells = (f"`{o.mutant.name}`", o.mutant.what, o.status, caught)
+        cells = (
+            f"`{o.mutant.name}`",
+            o.mutant.what,
+            o.status,
+            f"{o.seconds:.0f} ({o.cache})",
+            caught,
+        )
         lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     survivors = [o for o in outcomes if not o.killed]
     lines += ["", "Survivors:" if survivors else "No survivors."]
@@ -198,6 +262,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-baseline", action="store_true", help="skip the unmutated run")
     parser.add_argument("--no-readme", action="store_true", help="do not write bench/README.md")
     args = parser.parse_args(argv)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # the scratch copy is removed
     chosen = [m for m in MUTANTS if not args.only or args.only in m.name]
     if args.list or not chosen:
         for m in chosen:
@@ -221,26 +286,35 @@ def main(argv: list[str] | None = None) -> int:
         env = _environment(work, Path(scratch) / "numba-cache")
         _copy_tree(files, pristine, work)
         _check_imports(work, env)
+        warm = None
         if not args.no_baseline:
-            targets = " ".join(dict.fromkeys(t for m in chosen for t in m.tests.split()))
-            rc, out = _pytest(targets, work, env, 4 * args.timeout)
+            warm_env = _environment(work, Path(scratch) / "warm-cache")
+            rc, out = _pytest(_baseline_targets(chosen), work, warm_env, 4 * args.timeout)
             if rc != 0:
                 print(f"baseline: the named tests fail without a mutant: {_first_failure(out)}")
                 return 1
+            warm = cache_folder(work, warm_env)
             print(f"baseline: the named tests pass ({time.perf_counter() - start:.0f} s)")
         outcomes = []
+        killers = last_killers()
         for m in chosen:
-            o = run_mutant(m, files, pristine, work, env, args.timeout)
+            o = run_mutant(
+                m, files, pristine, work, env, args.timeout, warm, killers.get(m.name, "")
+            )
             outcomes.append(o)
-            print(f"{o.status:8s} {m.name:42s} {o.seconds:6.1f} s  {o.detail}", flush=True)
+            print(
+                f"{o.status:8s} {m.name:42s} {o.seconds:6.1f} s {o.cache:4s}  {o.detail}",
+                flush=True,
+            )
     wall = time.perf_counter() - start
     text = section(outcomes, wall, (load_before, os.getloadavg()[0]))
     killed = sum(o.killed for o in outcomes)
     score = 100 * killed / len(outcomes)
     print(f"\nscore: {killed}/{len(outcomes)} killed ({score:.1f} %)")
-    for o in outcomes:
-        if not o.killed:
-            print(f"  {o.status}: {o.mutant.name}: {SURVIVOR_NOTES.get(o.mutant.name, '')}")
+    for status in ("survived", "timeout", "error"):
+        for o in outcomes:
+            if o.status == status:
+                print(f"  {status}: {o.mutant.name}: {SURVIVOR_NOTES.get(o.mutant.name, '')}")
     if not args.no_readme and not args.only:
         replace_section(README, SECTION, text)
         print(f"wrote the {SECTION!r} section of {README.relative_to(ROOT)}")

@@ -25,6 +25,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import runtime
+from runtime import settings
 
 G = 9.81
 DENSITY = 1000.0
@@ -173,10 +174,14 @@ def test_arc_rocking_in_a_bowl_follows_the_reduced_equations(props, angle, middl
     ],
     ids=["euler", "midpoint", "rk4"],
 )
-def test_rocking_arc_converges_at_each_methods_order(method, order, dts):
+@pytest.mark.parametrize("compiled", [True, False], ids=["compiled", "general"])
+def test_rocking_arc_converges_at_each_methods_order(method, order, dts, compiled, monkeypatch):
     """The half disc of the test above, 0.4 s: halving the step divides the error against the
     reduced equations by 2^order (measured orders 1.02-1.03, 1.98-2.02, 3.95-3.98): an
-    integrator that is still consistent but of a lower order, or not consistent, shows."""
+    integrator that is still consistent but of a lower order, or not consistent, shows. On the
+    compiled stages and on the general path (runtime.step.integrators: what scenes with
+    friction, joints, ovals or stabilisation step with)."""
+    monkeypatch.setattr(settings, "COMPILED", compiled)
     props, a, phi0, w0, angle, duration = half_disc(0.3), 0.7, 0.35, 2.0, math.pi + 0.5, 0.4
     centre = a * np.array([math.sin(phi0), -math.cos(phi0)])
     scene = runtime.scene_from_dict(

@@ -107,8 +107,8 @@ BOX2D = Peer(
     (8, 50),
     peers.box2d_version,
     "dt from 1/60 s to 1/61440 s, velocity iterations 8 and 50 (3 position iterations), "
-    "friction the scene's (Box2D mixes sqrt(mu1 mu2), as we do), restitution 0, the polygon and edge skin (b2_polygonRadius) set to 0 so the "
-    "surfaces are the scene's; its b2_linearSlop of 5 mm (the overlap its position correction "
+    "friction the scene's (Box2D mixes sqrt(mu1 mu2), as we do), restitution 0, the polygon "
+    "and edge skin (b2_polygonRadius) set to 0 so the surfaces are the scene's; its b2_linearSlop of 5 mm (the overlap its position correction "
     "tolerates) is compiled in, and it computes in float32.",
 )
 

@@ -6,8 +6,9 @@ A `runtime.Scene` is translated shape by shape, so both engines start from one s
 a full convex arc becomes a `pymunk.Circle` (the cylinder, the discs), a straight edge a
 `pymunk.Segment` (the incline), a concave arc (the bowl) N straight segments with their end
 points on the arc (pymunk has no concave curves), a convex polygon a `pymunk.Poly`.
-Friction and elasticity are 0, as in the frictionless, inelastic scenes; mass, inertia and the
-initial state are the scene's.
+Elasticity is the body's restitution; friction gives each contact the scene's coefficient
+sqrt(mu1 mu2): Chipmunk multiplies its shapes' frictions, so each shape gets sqrt(mu) of its
+body. Mass, inertia and the initial state are the scene's.
 
 Chipmunk2D steps with a fixed dt (semi-implicit Euler, positions first) and resolves contacts
 with `iterations` sweeps of sequential impulses; those two and N are what the report sweeps.
@@ -19,7 +20,8 @@ Each configuration is run twice: a timed pass that records only the state a user
 
 Translated the same way: full circles as `b2CircleShape`, straight edges and the bowl's chords as
 `b2EdgeShape`, a convex polygon as `b2PolygonShape`, with the scene's mass and inertia (about
-the centre of mass) set directly. Box2D gives polygons and edges a "skin" (`b2_polygonRadius`,
+the centre of mass) set directly, and each fixture the body's friction (Box2D mixes them as
+sqrt(mu1 mu2), as we do). Box2D gives polygons and edges a "skin" (`b2_polygonRadius`,
 1 cm) that keeps them apart by that much; it is set to 0 so the surfaces are the scene's (as
 pymunk's radius 0), which leaves Box2D's own resting overlap, `b2_linearSlop` = 5 mm, compiled
 in and not settable: what its position solver tolerates before pushing bodies apart. Box2D
@@ -131,7 +133,7 @@ def build_space(scene, config: PeerConfig) -> tuple[pymunk.Space, pymunk.Body]:
             moving, shapes = _moving_body(body)
             space.add(moving, *shapes)
         for shape in shapes:
-            shape.friction = 0.0
+            shape.friction = math.sqrt(body.friction)  # pymunk: mu1' mu2' = sqrt(mu1 mu2)
             shape.elasticity = body.restitution
     return space, moving
 
@@ -156,7 +158,7 @@ def _timed_pass(scene, config: PeerConfig, steps: int) -> tuple[np.ndarray, floa
 
 
 def _detail_pass(scene, config: PeerConfig, steps: int) -> tuple[np.ndarray, np.ndarray, float]:
-    """States, contact force magnitude (impulse / dt) per step, deepest overlap."""
+    """States, normal contact force magnitude (impulse / dt) per step, deepest overlap."""
     space, body = build_space(scene, config)
     states = np.empty((steps + 1, 6))
     states[0] = _state(body)
@@ -165,7 +167,7 @@ def _detail_pass(scene, config: PeerConfig, steps: int) -> tuple[np.ndarray, np.
     acc = {"impulse": 0.0, "depth": 0.0}
 
     def visit(arbiter: pymunk.Arbiter) -> None:
-        acc["impulse"] += abs(arbiter.total_impulse)
+        acc["impulse"] += abs(arbiter.total_impulse.dot(arbiter.normal))  # without friction
         for point in arbiter.contact_point_set.points:
             acc["depth"] = max(acc["depth"], -point.distance)
 
@@ -242,7 +244,7 @@ def _box2d_static(world, body, segments: int) -> None:
     for edge in body.shape.edges:
         if hasattr(edge, "radius") and edge.radius > 0 and edge.full:
             shape = Box2D.b2CircleShape(radius=edge.radius, pos=_world(body, edge.centre))
-            ground.CreateFixture(shape=shape, friction=0.0, restitution=body.restitution)
+            ground.CreateFixture(shape=shape, friction=body.friction, restitution=body.restitution)
             continue
         if hasattr(edge, "radius"):
             points = [_world(body, p) for p in arc_polyline(edge, segments)]
@@ -253,7 +255,7 @@ def _box2d_static(world, body, segments: int) -> None:
         for a, b in itertools.pairwise(points):
             shape = Box2D.b2EdgeShape(vertices=[a, b])
             shape.radius = 0.0
-            ground.CreateFixture(shape=shape, friction=0.0, restitution=body.restitution)
+            ground.CreateFixture(shape=shape, friction=body.friction, restitution=body.restitution)
 
 
 def _box2d_moving(world, body):
@@ -273,7 +275,7 @@ def _box2d_moving(world, body):
         shape.radius = 0.0
     else:
         raise NotImplementedError(f"no Box2D shape for moving body {body.name!r}")
-    b.CreateFixture(shape=shape, density=1.0, friction=0.0, restitution=body.restitution)
+    b.CreateFixture(shape=shape, density=1.0, friction=body.friction, restitution=body.restitution)
     b.massData = Box2D.b2MassData(mass=body.mass, center=(0.0, 0.0), I=body.inertia)
     return b
 

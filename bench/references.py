@@ -9,7 +9,10 @@ The references are built from the scene files (radii, initial state, gravity rea
 
 - disc in a bowl: a pendulum of length L = R - r, phi'' = -(g/L) sin phi, solved by scipy's
   DOP853 at rtol 1e-12 (frictionless: the disc does not turn); normal force m (g cos phi + L phi'^2);
-- disc on an incline: closed form, it slides with g sin(slope) along the wall;
+- disc rolling in a bowl (friction): the same pendulum in g / (1 + I / (m r^2)) (2g/3 for a
+  uniform disc), rolling (contact point at rest) while |F_t| <= mu N, which is checked;
+- disc or block on an incline: closed form, it slides with g sin(slope) along the wall, less
+  mu g cos(slope) with friction (a block; the energy then falls by the friction's work);
 - disc over a cylinder: an inverted pendulum of length R + r until the normal force
   m (g cos phi - (R + r) phi'^2) vanishes, then a parabola; the leaving angle has the closed form
   cos phi = (2/3) cos phi0 + v0^2 / (3 g (R + r));
@@ -112,6 +115,14 @@ def energy_drift(scene, traj: Trajectory) -> float:
     return float(np.max(np.abs(e - e[0])))
 
 
+def contact_mu(scene) -> float:
+    """The Coulomb coefficient of the contact of the scene's moving body with its one fixed
+    body: sqrt(mu1 mu2), as runtime.solve.friction_rows.contact_friction."""
+    (fixed,) = [b for b in scene.bodies if b.fixed]
+    (body,) = [b for b in scene.bodies if not b.fixed]
+    return math.sqrt(fixed.friction * body.friction)
+
+
 def dropped_share(traj: Trajectory) -> float:
     """Share of the steps (after t = 0) at which the engine reports no contact force although
     the body never leaves the surface: a contact held by impacts instead of a resting force."""
@@ -160,6 +171,7 @@ class BowlReference(Reference):
         self.length = abs(radius) - body.radius
         self.g = gravity(scene)
         self.mass = body.mass
+        self.pull = self.g * self.pull_share(body)
         rel = body.position - self.centre
         phi0 = math.atan2(rel[0], -rel[1])
         dphi0 = float(body.velocity @ [math.cos(phi0), math.sin(phi0)]) / self.length
@@ -173,8 +185,12 @@ class BowlReference(Reference):
             dense_output=True,
         )
 
+    def pull_share(self, body: MovingBody) -> float:
+        """The share of g that drives the pendulum: all of it when the disc slides (no friction)."""
+        return 1.0
+
     def _rhs(self, _t: float, y: np.ndarray) -> list[float]:
-        return [y[1], -self.g / self.length * math.sin(y[0])]
+        return [y[1], -self.pull / self.length * math.sin(y[0])]
 
     def state(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(centre positions (K, 2), velocities (K, 2), normal force (K,)) at times t."""
@@ -198,8 +214,48 @@ class BowlReference(Reference):
         }
 
 
+class RollingBowlReference(BowlReference):
+    """Disc rolling in a bowl (friction): as the bowl, in g / (1 + I / (m r^2)), and the slip
+    speed of the disc's contact point (m/s), 0 for rolling. Refuses a scene whose mu is too
+    small for rolling all the way (|F_t| > mu N somewhere on the reference's path)."""
+
+    units = {**BowlReference.units, "slip": "m/s"}
+
+    def __init__(self, scene, duration: float):
+        super().__init__(scene, duration)
+        body = moving_body(scene)
+        self.radius = body.radius
+        times = np.linspace(0.0, duration, 2001)
+        phi, dphi = self.solution.sol(times)
+        share = body.inertia / (body.inertia + body.mass * body.radius**2)
+        tangential = body.mass * self.g * share * np.abs(np.sin(phi))
+        normal = body.mass * (self.g * np.cos(phi) + self.length * dphi**2)
+        needed = float(np.max(tangential / normal))
+        if needed > contact_mu(scene):
+            raise ValueError(
+                f"the disc would slip: rolling needs mu >= {needed:.3g}, the scene has "
+                f"{contact_mu(scene):.3g}"
+            )
+
+    def pull_share(self, body: MovingBody) -> float:
+        return 1.0 / (1.0 + body.inertia / (body.mass * body.radius**2))
+
+    def errors(self, traj: Trajectory) -> dict[str, float]:
+        out = super().errors(traj)
+        rel = traj.pose[:, :2] - self.centre
+        phi = np.arctan2(rel[:, 0], -rel[:, 1])
+        tangent = np.c_[np.cos(phi), np.sin(phi)]
+        slip = (
+            np.einsum("kc,kc->k", traj.velocity[:, :2], tangent) + self.radius * traj.velocity[:, 2]
+        )
+        return {**out, "slip": _finite(float(np.max(np.abs(slip))))}
+
+
 class InclineReference(Reference):
-    """Disc on an incline (straight edge, the control): position, energy, force, penetration."""
+    """A body sliding down an incline (straight edge): position, energy against the friction's
+    work (the drift when frictionless), normal force, penetration. With friction (mu of the
+    contact > 0) the body must be one that slides flat (a block: a disc would roll) and slide
+    from rest or downhill: a = g (sin - mu cos) along the slope, or stay put if tan <= mu."""
 
     primary = "position"
     curved = False
@@ -218,8 +274,21 @@ class InclineReference(Reference):
         (segment,) = wall.shape.edges
         along = np.subtract(segment.end, segment.start) / segment.length
         g_vec = np.asarray(scene.gravity, dtype=float)
-        self.acceleration = float(g_vec @ along) * along  # gravity along the slope
-        self.normal_force = body.mass * abs(float(g_vec @ [along[1], -along[0]]))
+        pull, press = float(g_vec @ along), abs(float(g_vec @ [along[1], -along[0]]))
+        self.mu = contact_mu(scene)
+        v_along = float(body.velocity @ along)
+        sliding = abs(pull) > self.mu * press
+        if self.mu > 0 and (
+            body.radius is not None or v_along * pull < 0 or v_along and not sliding
+        ):
+            raise ValueError(
+                "the incline reference with friction is for a block at rest or sliding downhill "
+                "without stopping"
+            )
+        slide = pull - math.copysign(self.mu * press, pull) if sliding or v_along else 0.0
+        self.acceleration = slide * along  # gravity along the slope, less friction
+        self.friction_per_metre = self.mu * press / gravity(scene)  # height lost per metre slid
+        self.normal_force = body.mass * press
         self.start, self.v0 = body.position, body.velocity
         self.weight = body.mass * gravity(scene)
 
@@ -227,10 +296,13 @@ class InclineReference(Reference):
         return self.start + np.outer(t, self.v0) + 0.5 * np.outer(t**2, self.acceleration)
 
     def errors(self, traj: Trajectory) -> dict[str, float]:
-        err = np.linalg.norm(traj.pose[:, :2] - self.position(traj.t), axis=1)
+        exact = self.position(traj.t)
+        err = np.linalg.norm(traj.pose[:, :2] - exact, axis=1)
+        slid = np.linalg.norm(exact - self.start, axis=1)
+        energy = energy_height(self.scene, traj) + self.friction_per_metre * slid
         return {
             "position": _finite(np.max(err)),
-            "energy": _finite(energy_drift(self.scene, traj)),
+            "energy": _finite(float(np.max(np.abs(energy - energy[0])))),
             "force": _finite(np.nanmax(np.abs(traj.force - self.normal_force)) / self.weight),
             "dropped": dropped_share(traj),
             "penetration": traj.penetration,

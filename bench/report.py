@@ -12,35 +12,34 @@ fronts measured in this one run, and bench/report_pages.py writes, into docs/rep
 - README.md: the same numbers as tables, the comparison ours/peer (error at equal cost, cost at
   equal error), the date, the machine and the versions;
 
-and the "## Report" section of bench/README.md (the headline numbers).
+and the "## Report" section of bench/README.md (the headline numbers). Each scene's runs are
+also kept as docs/report/<scene>.json, so a run of some scenes (--scenes) rewrites the pages
+with the other scenes as last measured (each section says when).
 
-    python -m bench.report            # everything (about 10 minutes on 2 cores)
+    python -m bench.report            # everything (about 15 minutes on 2 cores)
+    python -m bench.report --scenes disc_rolling_in_bowl,block_on_incline   # only these
     python -m bench.report --quick    # a few runs per engine, into a scratch folder (smoke test)
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
+import os
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 import runtime
-from bench import peers
+from bench import peers, report_store
 from bench.compare import Point, compare
 from bench.markdown import replace_section
-from bench.references import (
-    BowlReference,
-    CylinderReference,
-    InclineReference,
-    PlankReference,
-    Reference,
-    Trajectory,
-)
+from bench.references import Reference, Trajectory
 from bench.report_pages import (
     SECTION,
     PeerInfo,
@@ -50,6 +49,8 @@ from bench.report_pages import (
     report_markdown,
     summary_table,
 )
+from bench.report_scenes import ADAPTIVE_DT, SCENES, SceneSpec
+from runtime import settings
 
 ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "docs" / "report"
@@ -63,7 +64,6 @@ OUR_FIXED_DT = {
     "rk4": (2e-1, 1e-1, 5e-2, 2e-2, 1e-2, 5e-3),
 }
 OUR_RTOL = (1e-2, 1e-4, 1e-6, 1e-8, 1e-10)
-ADAPTIVE_DT = 0.02
 # The peers' sweep: dt from one 60 Hz frame down to 1/61440 s, two iteration counts (each
 # engine's default first), and the bowl as N chords. (With one contact the iterations change
 # nothing; the sweep shows it.)
@@ -73,84 +73,6 @@ BOWL_SEGMENTS = (16, 64, 256)
 QUICK_FIXED_DT = {"rk4": (1e-1, 2e-2), "euler": (1e-2,)}
 QUICK_RTOL = (1e-4,)
 QUICK_PEER_DT = tuple(1.0 / (60 * 2**k) for k in (0, 4))
-
-
-@dataclass(frozen=True)
-class SceneSpec:
-    """A report scene: its file, how long to simulate it, its reference and what to plot."""
-
-    name: str
-    duration: float  # s of simulated time
-    reference: type[Reference]
-    panels: tuple[str, ...]  # error measures plotted, the reference's primary first
-    title: str
-    note: str  # the reference and how its error is measured (a paragraph of the report)
-
-    @property
-    def path(self) -> Path:
-        return ROOT / "scenes" / f"{self.name}.toml"
-
-    @property
-    def has_bowl(self) -> bool:
-        return self.reference is BowlReference
-
-
-SCENES = (
-    SceneSpec(
-        "disc_in_bowl",
-        2.0,
-        BowlReference,
-        ("position", "force_rms"),
-        "Disc in a bowl (concave circle-circle), 2 s: pendulum reference",
-        (
-            "Reference: the pendulum phi'' = -(g/L) sin phi with L = R - r = 0.9 m from 0.3 rad, "
-            "scipy DOP853 at rtol 1e-12; contact force m (g cos phi + L phi'^2). pymunk and Box2D: the bowl's "
-            "arc (-150° … -30°) as N chords with their ends on the circle. Position error = max over "
-            "the recorded steps of the distance between the disc's centre and the reference's."
-        ),
-    ),
-    SceneSpec(
-        "disc_over_cylinder",
-        1.5,
-        CylinderReference,
-        ("leaving_angle", "position"),
-        "Disc sliding over a cylinder (convex circle-circle), 1.5 s: leaving angle",
-        (
-            "Reference: the leaving angle cos phi = (2/3) cos phi0 + v0^2 / (3 g (R + r)) "
-            "(0.8403 rad here); the run's leaving angle is where its contact force reaches 0: the "
-            "zero of the parabola through the last three samples with force, kept between the last "
-            "sample with force and the first without. The force is only known once per step, so "
-            f"this has a resolution of its own: with our adaptive runs' {ADAPTIVE_DT:g} s step it "
-            "gives the same few 1e-6 rad for every rtol, which is more likely the resolution than "
-            "the integrator. A peer's contact comes and goes (an impulse on some steps only), so its "
-            "leaving angle is in effect its last step with an impulse. Position error: against the "
-            "circle-then-parabola reference trajectory."
-        ),
-    ),
-    SceneSpec(
-        "plank_on_cylinder",
-        1.0,
-        PlankReference,
-        ("energy", "penetration"),
-        "Plank tipping off a cylinder (circle-edge), 1 s: energy conservation",
-        (
-            "Reference: energy conservation (frictionless, no impacts). Energy drift = max |E - E0| "
-            "/ (m g), a height in metres."
-        ),
-    ),
-    SceneSpec(
-        "disc_on_incline",
-        0.5,
-        InclineReference,
-        ("position", "energy"),
-        "Disc on a 30° incline (straight edge, the control), 0.5 s: closed form",
-        (
-            "Reference: closed form, the disc slides with g sin 30°. A straight edge: not what the "
-            "curved-edge engine is for, but the control -- every method of order >= 2 is exact here "
-            "up to rounding (plotted at 1e-16), as is the contact force."
-        ),
-    ),
-)
 
 
 @dataclass(frozen=True)
@@ -174,7 +96,8 @@ PYMUNK = Peer(
     peers.simulate_pymunk,
     (10, 50),
     peers.version,
-    "dt from 1/60 s to 1/61440 s, iterations 10 and 50, friction 0, elasticity 0, collision "
+    "dt from 1/60 s to 1/61440 s, iterations 10 and 50, elasticity 0, friction the scene's "
+    "(sqrt(mu) per shape: pymunk multiplies them), collision "
     f"slop {peers.COLLISION_SLOP:g} m (its default 0.1 would let the bodies sink 10 cm).",
 )
 BOX2D = Peer(
@@ -184,8 +107,8 @@ BOX2D = Peer(
     (8, 50),
     peers.box2d_version,
     "dt from 1/60 s to 1/61440 s, velocity iterations 8 and 50 (3 position iterations), "
-    "friction 0, restitution 0, the polygon and edge skin (b2_polygonRadius) set to 0 so the "
-    "surfaces are the scene's; its b2_linearSlop of 5 mm (the overlap its position correction "
+    "friction the scene's (Box2D mixes sqrt(mu1 mu2), as we do), restitution 0, the polygon "
+    "and edge skin (b2_polygonRadius) set to 0 so the surfaces are the scene's; its b2_linearSlop of 5 mm (the overlap its position correction "
     "tolerates) is compiled in, and it computes in float32.",
 )
 
@@ -202,8 +125,21 @@ def available_peers() -> tuple[list[Peer], list[str]]:
 
 def repeats_for(wall_time: float) -> int:
     """How often to time a run: short runs are repeated (best of 3) to beat the noise of the
-    other processes on the two cores; long ones, whose noise is relatively small, are not."""
-    return 3 if wall_time < 0.5 else 2 if wall_time < 2.0 else 1
+    other processes on the two cores; long ones, whose noise is relatively small, twice (a
+    run slowed down by a burst of load is then taken again)."""
+    return 3 if wall_time < 0.5 else 2
+
+
+@contextmanager
+def adaptive_tolerances(rtol: float, atol: float) -> Iterator[None]:
+    """The engine's adaptive methods take rtol and atol from runtime.settings (RTOL, ATOL); the
+    report sweeps them, and puts them back after each run."""
+    saved = settings.RTOL, settings.ATOL
+    settings.RTOL, settings.ATOL = rtol, atol
+    try:
+        yield
+    finally:
+        settings.RTOL, settings.ATOL = saved
 
 
 def our_trajectory(scene, duration: float, method: str, dt: float, rtol: float) -> Trajectory:
@@ -211,7 +147,8 @@ def our_trajectory(scene, duration: float, method: str, dt: float, rtol: float) 
     guards are off: the report measures penetration and energy itself, also for the coarse
     Euler and midpoint runs that the penetration guard would stop."""
     off = runtime.Guards(penetration=None, energy_growth=None)
-    run = runtime.simulate(scene, duration, dt, method, rtol=rtol, atol=rtol * 1e-3, guards=off)
+    with adaptive_tolerances(rtol, rtol * 1e-3):
+        run = runtime.simulate(scene, duration, dt, method, guards=off)
     (index,) = [i for i, b in enumerate(scene.bodies) if not b.fixed]
     setting = f"dt={dt:g}" if method in OUR_FIXED_DT else f"rtol={rtol:.0e}"
     return Trajectory(
@@ -228,10 +165,11 @@ def our_trajectory(scene, duration: float, method: str, dt: float, rtol: float) 
 
 
 def best_of(run_once: Callable[[], Trajectory]) -> Trajectory:
-    """The run with the smallest wall time of `repeats_for` runs (the errors are identical)."""
-    best = run_once()
-    for _ in range(repeats_for(best.wall_time) - 1):
-        again = run_once()
+    """The run with the smallest wall time of `repeats_for` runs (the errors are identical),
+    their number decided by the fastest so far."""
+    best, runs = run_once(), 1
+    while runs < repeats_for(best.wall_time):
+        again, runs = run_once(), runs + 1
         if again.wall_time < best.wall_time:
             best = again
     return best
@@ -261,9 +199,14 @@ def peer_configurations(spec: SceneSpec, quick: bool, peer: Peer) -> list:
 
 
 def sweep_ours(spec: SceneSpec, scene, reference: Reference, quick: bool) -> list[Point]:
-    """Every (method, dt/rtol) of our sweep on one scene; a failed run is reported, not fatal."""
+    """Every (method, dt/rtol) of our sweep on one scene; a failed run is reported, not fatal.
+    Each method first runs two steps untimed: the compiled engine loads (or, after a change of
+    its sources, compiles: minutes) on its first run, which is no run's cost."""
     points = []
-    for method, dt, rtol in our_configurations(quick):
+    configs = our_configurations(quick)
+    for method, dt, rtol in {c[0]: c for c in configs}.values():
+        our_trajectory(scene, min(spec.duration, 2 * dt), method, dt, rtol)
+    for method, dt, rtol in configs:
         try:
             traj = best_of(
                 lambda m=method, d=dt, r=rtol: our_trajectory(scene, spec.duration, m, d, r)
@@ -318,18 +261,45 @@ OURS_SWEEP = (
 )
 
 
+def measured_now() -> str:
+    """When a scene is measured, and the load then: each scene's section says it."""
+    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    return f"{now}, 1-minute load average {os.getloadavg()[0]:.1f}"
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a few runs, into --out")
     parser.add_argument("--out", type=Path, default=None, help="output folder")
+    parser.add_argument(
+        "--scenes",
+        default=None,
+        help="comma-separated scenes to measure (default: all); the others as last measured",
+    )
     args = parser.parse_args(argv)
+    names = [spec.name for spec in SCENES]
+    chosen = names if args.scenes is None else [n.strip() for n in args.scenes.split(",")]
+    unknown = [n for n in chosen if n not in names]
+    if unknown or not chosen:
+        parser.error(f"unknown scene(s) {', '.join(unknown)}: the report's are {', '.join(names)}")
     out = args.out or (ROOT / "out" / "report-quick" if args.quick else OUT)
     out.mkdir(parents=True, exist_ok=True)
     peer_list, missing = available_peers()
     start = time.perf_counter()
-    results = [run_scene(spec, args.quick, peer_list) for spec in SCENES]
-    for result in results:
-        plot_scene(result, out / f"{result.spec.name}.png")
+    results = []
+    for spec in SCENES:
+        stored = out / f"{spec.name}.json"
+        if spec.name in chosen:
+            result = run_scene(spec, args.quick, peer_list)
+            result.measured = measured_now()
+            report_store.save(result, stored)
+            plot_scene(result, out / f"{spec.name}.png")
+        elif stored.exists():
+            result = report_store.load(spec, stored)
+        else:
+            missing.append(f"{spec.name} has not been measured yet (`--scenes {spec.name}`).")
+            continue
+        results.append(result)
     elapsed = time.perf_counter() - start
     text = report_markdown(
         results,
@@ -338,10 +308,11 @@ def main(argv: list[str] | None = None) -> None:
         missing=missing,
         elapsed=elapsed,
         quick=args.quick,
+        rerun=chosen,
     )
     (out / "README.md").write_text(text)
     if not args.quick and args.out is None:
-        replace_section(BENCH_README, SECTION, bench_section(results, elapsed))
+        replace_section(BENCH_README, SECTION, bench_section(results, elapsed, chosen))
     print("\n".join(summary_table(results)))
     print(f"written to {out} in {elapsed:.0f} s", file=sys.stderr)
 

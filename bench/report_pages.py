@@ -35,6 +35,7 @@ LABELS = {
     "force_rms": "rms contact-force error / mg",
     "penetration": "max penetration [m]",
     "leaving_angle": "leaving-angle error [rad]",
+    "slip": "max slip speed of the contact point [m/s]",
 }
 OUR_STYLE = {
     "euler": "tab:red",
@@ -69,6 +70,7 @@ class SceneResult:
     ours: list[Point]
     theirs: dict[str, list[Point]]
     comparisons: dict[str, Comparison]
+    measured: str = ""  # when, and the machine's load then (a sentence)
 
 
 def _lines(points: list[Point]) -> dict[str, list[Point]]:
@@ -201,9 +203,11 @@ def report_markdown(
     missing: list[str],
     elapsed: float,
     quick: bool,
+    rerun: list[str],
 ) -> str:
     """docs/report/README.md. ``ours``: how our engine was swept; ``missing``: a sentence per
-    peer that could not be run."""
+    peer or scene that could not be run; ``rerun``: the scenes this run measured (the others
+    are as stored, each section says when)."""
     now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     load = os.getloadavg()
     names = " and ".join(p.name for p in peers)
@@ -211,7 +215,9 @@ def report_markdown(
         f"# Speed against error: curved-edge-physics, {names}",
         "",
         f"Written by `make report` (`python -m bench.report`{' --quick' if quick else ''}) "
-        f"on {now}, in {elapsed:.0f} s. Machine: {machine()}. Versions: {versions(peers)}. "
+        f"on {now}, measuring {', '.join(rerun)} in {elapsed:.0f} s"
+        f"{'' if len(rerun) == len(results) else ' (the other scenes as last measured)'}. "
+        f"Machine: {machine()}. Versions: {versions(peers)}. "
         f"1-minute load average at the end: {load[0]:.1f} (other processes share the cores).",
         "",
         "Every point is one run of the whole scene; its wall time is the best of up to 3 "
@@ -238,6 +244,8 @@ def report_markdown(
     for result in results:
         spec = result.spec
         lines += [f"## {spec.name}", "", f"![{spec.name}]({spec.name}.png)", "", spec.note, ""]
+        if result.measured:
+            lines += [f"Measured {result.measured}.", ""]
         for peer, cmp in result.comparisons.items():
             lines += [
                 f"Against {peer}, primary error {cmp.metric}: common wall-time range "
@@ -338,14 +346,15 @@ def _iterations_note(info: PeerInfo, theirs: list[Point], metric: str) -> str:
     return f"{info.name}: {more} solver iterations change its {metric} by up to {worst:.2g}×."
 
 
-def bench_section(results: list[SceneResult], elapsed: float) -> str:
+def bench_section(results: list[SceneResult], elapsed: float, rerun: list[str]) -> str:
     """The "## Report" section of bench/README.md: how to run it and the headline table."""
     lines = [
         SECTION,
         "",
         "Written by `python -m bench.report` (`make report`); the diagrams, all runs and the "
         f"details are in [docs/report/README.md](../docs/report/README.md). Last run: "
-        f"{elapsed:.0f} s, {machine()}.",
+        f"{', '.join(rerun)} in {elapsed:.0f} s, {machine()}"
+        f"{'' if len(rerun) == len(results) else ' (the other scenes as measured before)'}.",
         "",
         *summary_table(results),
         "",

@@ -5,7 +5,8 @@ are what one needs to check a run against a hand calculation; trajectory.npz kee
 flat arrays (no pickled objects) with a step index into ``t``.
 
 This is the one place that reads how a Run stores its contacts: ``run.contacts[k]``, a
-``Contacts`` array set (runtime.collide.contact_set), and ``run.contact_forces[k]`` their forces.
+``Contacts`` array set (runtime.collide.contact_set), ``run.contact_forces[k]`` their forces and
+``run.friction_forces[k]`` their friction forces (0 where a run has none recorded).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ CONTACT_FIELDS: dict[str, tuple[str, tuple[int, ...]]] = {
     "contact_normal": ("float64", (2,)),  # world unit normal, from body 2 toward body 1
     "contact_gap": ("float64", ()),  # the kernel's gap d, m
     "contact_force": ("float64", ()),  # normal force, N
+    "contact_friction": ("float64", ()),  # friction force f_t on body 1 along n turned +90°, N
 }
 
 
@@ -48,6 +50,7 @@ def contact_table(run: Any) -> dict[str, np.ndarray]:
     """The contacts of every recorded step of ``run`` with their forces, as the arrays of
     :data:`CONTACT_FIELDS` (m rows in all), plus ``contact_kinds`` (the feature kind names)."""
     columns: dict[str, list[np.ndarray]] = {name: [] for name in CONTACT_FIELDS}
+    friction = getattr(run, "friction_forces", None) or [None] * len(run.contacts)
     for k, (contacts, forces) in enumerate(zip(run.contacts, run.contact_forces, strict=True)):
         forces = np.atleast_1d(np.asarray(forces, dtype=float))
         if len(forces) != len(contacts):
@@ -57,6 +60,7 @@ def contact_table(run: Any) -> dict[str, np.ndarray]:
         rows = _rows_of_arrays(contacts)
         rows["contact_step"] = np.full(len(contacts), k)
         rows["contact_force"] = forces
+        rows["contact_friction"] = np.zeros(len(forces)) if friction[k] is None else friction[k]
         for name, (dtype, shape) in CONTACT_FIELDS.items():
             columns[name].append(np.asarray(rows[name], dtype=dtype).reshape(-1, *shape))
     table = {

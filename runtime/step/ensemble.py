@@ -96,8 +96,8 @@ def simulate_ensemble(
 ) -> Ensemble:
     """Run N copies of ``scene`` together for ``duration`` s in steps of ``dt`` (defaults, and
     the other options, as `runtime.simulate`). ``variations`` maps "<body name>.<field>"
-    (position, velocity, angle, angular_velocity, mass, restitution; a fixed body's position,
-    angle, restitution; "<body>.position[0]" for one component) and "scene.gravity" to arrays
+    (position, velocity, angle, angular_velocity, mass, restitution, friction; a fixed body's
+    position, angle, restitution, friction; "<body>.position[0]" for one component) and "scene.gravity" to arrays
     whose first axis is N, in the scene file's terms (runtime.step.variations); fields not
     named keep the scene's value.
 

@@ -47,7 +47,9 @@ class Run:
     < 0 is a penetration), impact_losses (K,) (kinetic energy taken out by impacts since the
     record before; 0 at the first), impact_times (I,) (located impacts);
     contacts[k] (runtime.collide.contact_set.Contacts) and contact_forces[k] (N): the resting
-    contacts at record k and their forces (runtime.app.contact_table gives them as one table).
+    contacts at record k and their forces (runtime.app.contact_table gives them as one table);
+    friction_forces[k] (N): their friction forces f_t along t = n turned by +90 degrees, on body 1
+    (docs/conventions.md; 0 without friction).
     """
 
     scene_name: str
@@ -64,6 +66,7 @@ class Run:
     impact_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     contacts: list[Contacts] = field(default_factory=list)
     contact_forces: list[np.ndarray] = field(default_factory=list)
+    friction_forces: list[np.ndarray] = field(default_factory=list)
     rhs_evaluations: int = 0
     wall_time: float = 0.0
 
@@ -99,8 +102,9 @@ class _Recorder:
             k: [] for k in ("t", "poses", "velocities", "energy", "momentum", "min_gap", "loss")
         }
 
-    def add(self, state: tuple, frame, recorded, forces, loss: float) -> None:
-        """One record: ``state`` = (t, poses, velocities, energy) and the frame at that time."""
+    def add(self, state: tuple, frame, recorded, forces, tangent, loss: float) -> None:
+        """One record: ``state`` = (t, poses, velocities, energy) and the frame at that time;
+        ``tangent``: the friction forces, None without a friction stage."""
         t, poses, velocities, energy = state
         r = self.rows
         r["t"].append(t)
@@ -112,6 +116,8 @@ class _Recorder:
         r["loss"].append(loss)
         self.run.contacts.append(frame.contacts.take(recorded))
         self.run.contact_forces.append(np.asarray(forces, dtype=float))
+        friction = np.zeros(len(forces)) if tangent is None else np.asarray(tangent, dtype=float)
+        self.run.friction_forces.append(friction)
 
     def finish(self, world: World, wall: float) -> Run:
         r, run, n = self.rows, self.run, self.n
@@ -182,14 +188,21 @@ def simulate(
             before = (world.t, world.poses, world.velocities, world.energy())
             report = world.step(h)
             if k % record_every == 0:
-                recorder.add(before, report.frame, report.recorded, report.forces, lost)
+                recorder.add(
+                    before,
+                    report.frame,
+                    report.recorded,
+                    report.forces,
+                    report.tangent_forces,
+                    lost,
+                )
                 lost = 0.0
             lost += report.impact_loss
             if progress is not None:
                 progress(min(1.0, (k + 1) / steps))
         frame, solution = world.final_frame()
         state = (world.t, world.poses, world.velocities, world.energy())
-        recorder.add(state, frame, frame.resting, solution.forces, lost)
+        recorder.add(state, frame, frame.resting, solution.forces, solution.tangent_forces, lost)
     except SimulationError as exc:
         exc.run = recorder.finish(world, time.perf_counter() - start)
         raise

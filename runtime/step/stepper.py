@@ -61,6 +61,7 @@ class RestingSolution:
     accelerations: np.ndarray
     forces: np.ndarray
     free_rates: np.ndarray
+    tangent_forces: np.ndarray | None = None  # friction f_t along t (None: no friction stage)
 
 
 @dataclass
@@ -72,6 +73,7 @@ class StepReport:
     frame: Frame | None = None
     recorded: np.ndarray | None = None  # frame indices of the recorded contacts
     forces: np.ndarray | None = None  # their forces
+    tangent_forces: np.ndarray | None = None  # their friction forces (None: no friction stage)
     impact_times: list[float] = field(default_factory=list)
     impact_loss: float = 0.0
 
@@ -258,7 +260,11 @@ class Stepper:
         m = len(contacts)
         forces, rates = np.empty(m), np.empty(m)
         forces[problem.order], rates[problem.order] = solution.forces, solution.free_rates
-        return RestingSolution(problem, solution.accelerations, forces, rates)
+        tangent = getattr(solution, "tangent_forces", None)  # runtime.solve.friction's
+        if tangent is not None:
+            ordered = np.empty(m)
+            ordered[problem.order], tangent = tangent, ordered
+        return RestingSolution(problem, solution.accelerations, forces, rates, tangent)
 
     def _solve(self, problem: ForceProblem, rows: Rows, q, v) -> ForceSolution:
         """Stage 4 on kernel rows at (q, v); linked scenes' forces depend on the state too."""
@@ -415,9 +421,12 @@ class Stepper:
         lifting = frame.lifting
         if lifting.size == 0:
             report.recorded, report.forces = frame.resting, resting.forces
+            report.tangent_forces = resting.tangent_forces
             return
         every = np.sort(np.concatenate([frame.resting, lifting]))
-        report.recorded, report.forces = every, self.solve(q, frame, every).forces
+        solved = self.solve(q, frame, every)
+        report.recorded, report.forces = every, solved.forces
+        report.tangent_forces = solved.tangent_forces
 
     def classify(
         self, q: np.ndarray, v: np.ndarray, h: float = 0.0

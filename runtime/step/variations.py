@@ -29,8 +29,9 @@ FIELDS = {
     "angular_velocity": 1,
     "mass": 1,
     "restitution": 1,
+    "friction": 1,
 }
-FIXED_FIELDS = ("position", "angle", "restitution")  # a fixed body has no velocity or mass
+FIXED_FIELDS = ("position", "angle", "restitution", "friction")  # no velocity or mass
 MOTION = ("position", "velocity", "angle", "angular_velocity")
 _KEY = re.compile(r"(?P<body>.+)\.(?P<field>\w+)(\[(?P<component>\d+)\])?")
 
@@ -68,6 +69,7 @@ def file_values(body: Body) -> dict[str, np.ndarray]:
         "angular_velocity": np.float64(w),
         "mass": np.float64(body.mass),
         "restitution": np.float64(body.restitution),
+        "friction": np.float64(body.friction),
     }
 
 
@@ -76,8 +78,9 @@ def varied_body(body: Body, values: Mapping[str, np.ndarray], name: str) -> Body
     of mass placed from the origin's position and the angle, its velocity from the origin's; a
     new mass scales the inertia (same shape and mass distribution)."""
     changes: dict = {"name": name}
-    if "restitution" in values:
-        changes["restitution"] = float(values["restitution"])
+    for field in ("restitution", "friction"):
+        if field in values:
+            changes[field] = float(values[field])
     if "angle" in values:
         changes["angle"] = reduced_angle(float(values["angle"]))
     if body.fixed:
@@ -218,8 +221,8 @@ def _values(key: str, raw, size: int) -> np.ndarray:
 
 
 def _check_values(key: str, field: str, values: np.ndarray) -> None:
-    """Finite, within the scene file's bounds; mass > 0, restitution in [0, 1], angle below
-    MAX_ANGLE: the first bad one named by its copy."""
+    """Finite, within the scene file's bounds; mass > 0, restitution in [0, 1], friction >= 0,
+    angle below MAX_ANGLE: the first bad one named by its copy."""
     flat = values.reshape(len(values), -1)
     checks = [(np.isfinite(flat), "must be finite"),
               (np.abs(flat) <= LARGEST, f"must be at most {LARGEST:g} in magnitude")]  # fmt: skip
@@ -227,6 +230,8 @@ def _check_values(key: str, field: str, values: np.ndarray) -> None:
         checks.append((flat >= SMALLEST, f"must be a mass >= {SMALLEST:g}"))
     if field == "restitution":
         checks.append(((flat >= 0) & (flat <= 1), "must be between 0 and 1"))
+    if field == "friction":
+        checks.append((flat >= 0, "must be >= 0"))
     if field == "angle":
         checks.append((np.abs(flat) < MAX_ANGLE, f"must be below {MAX_ANGLE:.3g} rad"))
     for ok, what in checks:

@@ -202,6 +202,17 @@ class World:
         forces[frame.resting] = solution.forces
         return forces[touching]
 
+    @property
+    def friction_forces(self) -> np.ndarray:
+        """The friction force (N) of each contact of :attr:`contacts` now: f_t on body 1 along
+        t = n turned by +90 degrees (docs/conventions.md), 0 where it does not rest or has no
+        friction."""
+        frame, solution = self._current()
+        forces = np.zeros(len(frame.contacts))
+        if solution.tangent_forces is not None:
+            forces[frame.resting] = solution.tangent_forces
+        return forces[np.flatnonzero(frame.modes != 0)]
+
     def final_frame(self):
         """(frame, resting solution) at the current state, checked by the penetration guard
         (the last step may have left an overlap): what the last record of a run shows."""

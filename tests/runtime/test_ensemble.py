@@ -127,6 +127,43 @@ def test_each_copy_equals_its_own_run_bouncing_resting_and_leaving_a_surface():
     assert impacts[1] >= 1 and impacts[3] >= 2
 
 
+SLOPE = {
+    "scene": {"name": "slope"},
+    "simulation": {"duration": 0.3, "dt": 1e-3},
+    "body": [
+        {"name": "slope", "fixed": True, "friction": 0.5,
+         "shape": {"type": "wall", "start": [0.0, 0.0], "end": [4 * math.cos(0.4), 4 * math.sin(0.4)]}},
+        {"name": "block", "shape": {"type": "rounded_rect", "width": 0.2, "height": 0.1,
+         "corner_radius": 0.0}, "mass": 1.0, "friction": 0.5, "angle": 0.4,
+         "position": [2 * math.cos(0.4) - 0.05 * math.sin(0.4), 2 * math.sin(0.4) + 0.05 * math.cos(0.4)]},
+    ],
+}  # fmt: skip
+
+
+def test_friction_varies_per_copy_a_block_slides_or_sticks_on_a_slope():
+    """mu of the slope and of the block per copy (the contact's is sqrt(mu1 mu2)): each copy as
+    its own run, and as the closed form: it slides with a = g (sin - mu cos) when tan 0.4 =
+    0.42 > mu (0 frictionless: a copy without friction in a frictional ensemble), else stays."""
+    slope_mu, block_mu = [0.5, 0.0, 0.3, 0.9], [0.5, 0.5, 0.12, 0.4]
+    scene = runtime.scene_from_dict(SLOPE)
+    ensemble = runtime.simulate_ensemble(
+        scene, {"slope.friction": slope_mu, "block.friction": block_mu}
+    )
+    assert list(ensemble.failed) == [""] * 4
+    along = np.array([math.cos(0.4), math.sin(0.4)])
+    for c in range(4):
+        run = runtime.simulate(variant(SLOPE, {(0, "friction"): slope_mu[c],
+                                               (1, "friction"): block_mu[c]}))  # fmt: skip
+        assert_same(ensemble, c, run)
+        mu = math.sqrt(slope_mu[c] * block_mu[c])
+        a = max(9.81 * (math.sin(0.4) - mu * math.cos(0.4)), 0.0)
+        moved = (ensemble.poses[c, :, 1, :2] - ensemble.poses[c, 0, 1, :2]) @ -along
+        np.testing.assert_allclose(moved, 0.5 * a * ensemble.t**2, rtol=0, atol=1e-12)
+    assert [bool(ensemble.poses[c, -1, 1, 1] < ensemble.poses[c, 0, 1, 1]) for c in range(4)] == [
+        False, True, True, False,
+    ]  # fmt: skip
+
+
 def test_gravity_mass_spin_and_a_fixed_body_s_pose_vary_per_copy():
     """Gravity (direction and size), mass, a moving body's angle and spin, and the bowl's own
     angle and position (a fixed body of each copy's own) against single runs."""
@@ -304,6 +341,7 @@ def test_a_copy_that_tunnels_through_its_own_wall_is_stopped_alone(monkeypatch):
         ({"disc.mass": [1.0, 2.0], "disc.angle": [0.0]}, "variations['disc.angle'] has 1 values, variations['disc.mass'] 2"),
         ({"disc.mass": [1.0, -2.0]}, "variations['disc.mass'][1] = -2.0: must be a mass >= 1e-50"),
         ({"disc.restitution": [0.5, 1.5]}, "variations['disc.restitution'][1] = 1.5: must be between 0 and 1"),
+        ({"disc.friction": [0.5, -0.1]}, "variations['disc.friction'][1] = -0.1: must be >= 0"),
         ({"disc.angle": [float("nan")]}, "variations['disc.angle'][0] = nan: must be finite"),
         ({"scene.gravity": [[0.0, 1e60]]}, "variations['scene.gravity'][0] = [0.0, 1e+60]: must be at most 1e+50"),
         ({"disc.position": [[0.0, 0.0]], "disc.position[0]": [1.0]}, "disc.position given twice"),

@@ -20,6 +20,8 @@ TOUCH = 1e-12  # "touching" means |gap| below this
 TOUCHING = {
     "disc_in_bowl": [("disc", "bowl")],
     "disc_on_incline": [("disc", "incline")],
+    "block_on_incline": [("block", "incline")],
+    "disc_rolling_in_bowl": [("disc", "bowl")],
     "disc_over_cylinder": [("disc", "cylinder")],
     "plank_on_cylinder": [("plank", "cylinder")],
     "rounded_box_into_bowl": [],

@@ -61,6 +61,7 @@ class RestingSolution:
     accelerations: np.ndarray
     forces: np.ndarray
     free_rates: np.ndarray
+    joint_forces: np.ndarray | None = None  # per joint row (runtime.solve.linked_forces)
 
 
 @dataclass
@@ -72,6 +73,7 @@ class StepReport:
     frame: Frame | None = None
     recorded: np.ndarray | None = None  # frame indices of the recorded contacts
     forces: np.ndarray | None = None  # their forces
+    joint_forces: np.ndarray | None = None  # the joint rows' forces there
     impact_times: list[float] = field(default_factory=list)
     impact_loss: float = 0.0
 
@@ -258,7 +260,9 @@ class Stepper:
         m = len(contacts)
         forces, rates = np.empty(m), np.empty(m)
         forces[problem.order], rates[problem.order] = solution.forces, solution.free_rates
-        return RestingSolution(problem, solution.accelerations, forces, rates)
+        return RestingSolution(
+            problem, solution.accelerations, forces, rates, getattr(solution, "joint_forces", None)
+        )
 
     def _solve(self, problem: ForceProblem, rows: Rows, q, v) -> ForceSolution:
         """Stage 4 on kernel rows at (q, v); linked scenes' forces depend on the state too."""
@@ -415,9 +419,12 @@ class Stepper:
         lifting = frame.lifting
         if lifting.size == 0:
             report.recorded, report.forces = frame.resting, resting.forces
+            report.joint_forces = resting.joint_forces
             return
         every = np.sort(np.concatenate([frame.resting, lifting]))
-        report.recorded, report.forces = every, self.solve(q, frame, every).forces
+        solution = self.solve(q, frame, every)
+        report.recorded, report.forces = every, solution.forces
+        report.joint_forces = solution.joint_forces
 
     def classify(
         self, q: np.ndarray, v: np.ndarray, h: float = 0.0

@@ -355,3 +355,37 @@ def test_bodies_a_joint_links_never_touch_each_other():
     assert np.max(np.hypot(*root.T)) < 1e-8
     with pytest.raises(ValueError, match="overlap"):
         scene_from_dict(_chain_of_two_rods("spring"))
+
+
+def test_run_records_the_rod_tension_of_a_pendulum():
+    """A bob on a distance joint (anchored at its centre: a point-mass pendulum), released
+    level: at every record the rod's force is the radial equation's, f = -m |v|^2 / L - m g.n
+    (n from the pivot to the bob), and at the lowest point T = -f = m g + m v^2 / L, which is
+    3 m g there (v^2 = 2 g L from the energy)."""
+    mass, length = 0.7, 1.5
+    run = simulate(scene_from_dict({
+        "scene": {"gravity": [0.0, -G]},
+        "simulation": {"duration": 2.0, "dt": 1e-3},
+        "body": [_disc("bob", (length, 0.0), mass=mass)],
+        "joint": [{"type": "distance", "body1": "bob", "body2": "world", "anchor2": [0.0, 0.0]}],
+    }))  # fmt: skip
+    assert run.joint_names == ["joint #1"] and run.joint_forces.shape == (len(run.t), 1)
+    position, velocity = run.poses[:, 0, :2], run.velocities[:, 0, :2]
+    n = position / np.hypot(*position.T)[:, None]
+    speed2 = np.sum(velocity**2, axis=1)
+    radial = -mass * speed2 / length - mass * (n @ np.array([0.0, -G]))
+    assert np.allclose(run.joint_forces[:, 0], radial, rtol=0, atol=1e-9 * mass * G)
+    low = int(np.argmin(position[:, 1]))
+    assert 0 < low < len(run.t) - 1  # it swung through the bottom
+    tension = -run.joint_forces[low, 0]
+    assert tension == pytest.approx(mass * G + mass * speed2[low] / length, rel=1e-6)
+    assert tension == pytest.approx(3 * mass * G, rel=1e-5)
+
+
+def test_a_run_without_joints_records_no_joint_forces():
+    run = simulate(scene_from_dict({
+        "scene": {"gravity": [0.0, -G]},
+        "simulation": {"duration": 0.01, "dt": 1e-3},
+        "body": [_disc("d", (0.0, 0.0))],
+    }))  # fmt: skip
+    assert run.joint_names == [] and run.joint_forces.shape == (len(run.t), 0)

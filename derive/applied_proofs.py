@@ -32,33 +32,39 @@ def _along_motion(expr: sp.Expr) -> sp.Expr:
     return expr.xreplace(path)
 
 
-def _in_levers(a: AppliedDerived, expr: sp.Expr, levers) -> sp.Expr:
+def _in_levers(a: AppliedDerived, expr: sp.Expr, levers: dict) -> sp.Expr:
     return inline_scalars(a, expr, levers).replace(InverseOrZero, lambda x: 1 / x)
 
 
 def textbook(a: AppliedDerived) -> Proof:
-    """In two steps for a spring (as for the joints): its levers L_i = R(th_i) a_i and their
-    rates equal the reference's, and the forces written in the levers equal the textbook form
-    along an arbitrary path of the levers (no trigonometry: seconds, not minutes)."""
-    variants = {"full": a}
-    if a.definition.bodies == 2 and a.dissipation != 0:
-        variants["static2"] = a.static2
-    held = True
-    for variant, av in variants.items():
-        still = RESTRICTIONS[variant]
-        levers = {}
-        if a.name == "spring":
-            levers = {s: v.xreplace(still) for s, v in ref.spring_levers().items()}
-        defined = dict(av.intermediates)
-        held &= all_zero((defined[s], v) for s, v in levers.items() if s in defined)
-        folded = {s: v for s, v in levers.items() if s not in defined}
-        forces, _, _ = ref.applied(a.name, levers=bool(levers))
-        count = 3 if variant == "static2" else len(forces)
-        held &= all_zero(
-            (_in_levers(av, f, levers), g.xreplace(still).xreplace(folded))
-            for f, g in zip(av.forces[:count], forces[:count], strict=True)
+    """For a spring in three steps: its levers L_i = R(th_i) a_i and their rates equal the
+    reference's (as for the joints); its force on body 1 written in the levers equals Hooke's
+    along an arbitrary path of the levers (no trigonometry: seconds, not minutes); and the
+    other outputs are that force's torque L1 x F, its opposite -F and torque -(L2 x F) on body
+    2, identically in the intermediates. The *_static2 forces equal the full ones with body 2
+    at rest, which is a special state."""
+    forces, _, _ = ref.applied(a.name, levers=a.name == "spring")
+    if a.name == "spring":
+        levers = ref.spring_levers()
+        defined = dict(a.intermediates)
+        held = all_zero((defined[s], v) for s, v in levers.items() if s in defined)
+        held = held and all_zero(
+            (_in_levers(a, f, levers), g) for f, g in zip(a.forces[:2], forces[:2], strict=True)
         )
-    what = " (and the *_static2 force on body 1 with body 2 at rest)" if len(variants) > 1 else ""
+        arms = [sp.Matrix([ref.sym(f"l{i}_x"), ref.sym(f"l{i}_y")]) for i in (1, 2)]
+        on_bodies = ref.on_bodies(sp.Matrix(a.forces[:2]), *arms)
+        held = held and all_zero(zip(a.forces, on_bodies, strict=True))
+    else:
+        pairs = zip(a.forces, forces, strict=True)
+        held = all_zero((a.in_state_symbols(f), g) for f, g in pairs)
+    what = ""
+    if a.definition.bodies == 2 and a.dissipation != 0:
+        still = RESTRICTIONS["static2"]
+        held = held and all_zero(
+            (a.static2.in_state_symbols(f2), a.in_state_symbols(f).xreplace(still))
+            for f, f2 in zip(a.forces[:3], a.static2.forces[:3], strict=True)
+        )
+        what = " (and the *_static2 force on body 1 with body 2 at rest)"
     return Proof(
         f"{a.name}: the generalized forces Q = -dV/dq - dR/dq' equal the textbook form,"
         f" {a.definition.textbook}{what}, for every state",

@@ -275,7 +275,7 @@ def joint_rows(joint: str, levers: bool = False) -> tuple[sp.Expr, ...]:
 # ------------------------------------------------------------------------------------------
 
 
-def _on_bodies(force: sp.Matrix, r1: sp.Matrix, r2: sp.Matrix) -> tuple[sp.Expr, ...]:
+def on_bodies(force: sp.Matrix, r1: sp.Matrix, r2: sp.Matrix) -> tuple[sp.Expr, ...]:
     """A force on body 1 at lever r1 and its opposite on body 2 at lever r2, with torques r x F."""
     return (force[0], force[1], cross(r1, force), -force[0], -force[1], -cross(r2, force))
 
@@ -301,13 +301,13 @@ def applied(name: str, levers: bool = False) -> tuple[tuple[sp.Expr, ...], sp.Ex
         force = -(sym("stiffness") * stretch + sym("damping") * dot(n, at_instant(s, 1))) * n
         arms = (at_instant(p1 - B1.centre), at_instant(p2 - B2.centre))
         potential = sym("stiffness") / 2 * stretch**2
-        return _on_bodies(force, *arms), potential, sym("damping") / 2 * rate**2
+        return on_bodies(force, *arms), potential, sym("damping") / 2 * rate**2
     if name == "mutual_gravity":
         apart = at_instant(B2.centre - B1.centre)
         r = sp.sqrt(dot(apart, apart))
         strength = sym("G") * sym("m1") * sym("m2")
         force = strength / r**2 * apart / r
-        return _on_bodies(force, sp.zeros(2, 1), sp.zeros(2, 1)), -strength / r, sp.Integer(0)
+        return on_bodies(force, sp.zeros(2, 1), sp.zeros(2, 1)), -strength / r, sp.Integer(0)
     if name == "body_damping":
         vx, vy, w = VELOCITY[:3]
         k_lin, k_ang, m, inertia = sym("k_lin"), sym("k_ang"), sym("m1"), sym("i1")

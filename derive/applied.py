@@ -73,6 +73,7 @@ class AppliedDefinition:
     name: str
     title: str
     bodies: int  # 2, or 1 for a force of one body on itself (damping)
+    world_end: bool  # body 2 may be the world (a *_static2 kernel)
     parameters: tuple[sp.Symbol, ...]
     potential: str
     dissipation: str
@@ -152,6 +153,7 @@ def spring() -> AppliedDefinition:
         name="spring",
         title="Spring with a dashpot",
         bodies=2,
+        world_end=True,
         parameters=(PX1, PY1, PX2, PY2, REST_LENGTH, STIFFNESS, DAMPING),
         potential="V = stiffness/2 (|s| - rest_length)^2,  s = p1 - p2 = X1 + R(th1) a1 - X2 - R(th2) a2",
         dissipation="R = damping/2 (d|s|/dt)^2",
@@ -169,6 +171,7 @@ def mutual_gravity() -> AppliedDefinition:
         name="mutual_gravity",
         title="Mutual gravitation",
         bodies=2,
+        world_end=False,
         parameters=(G, M1, M2),
         potential="V = -G m1 m2 / r,  r = |X1 - X2|",
         dissipation="R = 0",
@@ -184,6 +187,7 @@ def body_damping() -> AppliedDefinition:
         name="body_damping",
         title="Linear and angular damping of a body",
         bodies=1,
+        world_end=False,
         parameters=(M1, I1, K_LIN, K_ANG),
         potential="V = 0",
         dissipation="R = (k_lin m1 (vx1^2 + vy1^2) + k_ang i1 w1^2)/2",

@@ -58,7 +58,7 @@ def textbook(a: AppliedDerived) -> Proof:
         pairs = zip(a.forces, forces, strict=True)
         held = all_zero((a.in_state_symbols(f), g) for f, g in pairs)
     what = ""
-    if a.definition.bodies == 2 and a.dissipation != 0:
+    if a.definition.world_end:
         still = RESTRICTIONS["static2"]
         held = held and all_zero(
             (a.static2.in_state_symbols(f2), a.in_state_symbols(f).xreplace(still))

@@ -127,7 +127,9 @@ def _applied(name: str):
     }
     functions = [emit_function(spec, definition.parameters) for spec in applied_specs(a)]
     uses_numpy = any(
-        "np." in code for f in functions for code in (f.returns, *(a[1] for a in f.assignments))
+        "np." in code
+        for f in functions
+        for code in (f.returns, *(line[1] for line in f.assignments))
     )
     template = environment().get_template("applied_module.py.j2")
     source = template.render(case=info, functions=functions, uses_numpy=uses_numpy)

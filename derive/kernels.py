@@ -259,7 +259,7 @@ def applied_specs(a) -> list[KernelSpec]:
             FORCE_NAMES[:per_body],
         )
     ]
-    if definition.bodies == 2 and a.dissipation != 0:
+    if definition.world_end:
         specs.append(
             KernelSpec(
                 "force_static2",

@@ -1,8 +1,9 @@
 """`regenerate-equations`: derive every case, write generated/ and docs/derivations.tex (+ PDF).
 
 The generated modules: the contact cases (the normal row), <case>_friction (the tangential row of
-a case) and the joints. A subset (`--cases`) writes those modules and the module lists only: the
-document covers every module, so only a full run writes (or checks) it. This module imports nothing
+a case), the joints and the applied forces (springs, mutual gravity, body damping). A subset
+(`--cases`) writes those modules and the module lists only: the document covers every module, so
+only a full run writes (or checks) it. This module imports nothing
 beyond the standard library until the derive extra (SymPy, Jinja2, mpmath, ruff) is installed.
 """
 
@@ -18,7 +19,8 @@ ROOT = Path(__file__).resolve().parent.parent
 CASE_NAMES = ("vertex_edge", "vertex_circle", "circle_edge", "circle_circle")
 FRICTION_NAMES = tuple(f"{case}_friction" for case in CASE_NAMES)
 JOINT_NAMES = ("pin_joint", "distance_joint")
-MODULE_NAMES = CASE_NAMES + FRICTION_NAMES + JOINT_NAMES
+APPLIED_NAMES = ("spring", "mutual_gravity", "body_damping")
+MODULE_NAMES = CASE_NAMES + FRICTION_NAMES + JOINT_NAMES + APPLIED_NAMES
 EXTRA = ("sympy", "jinja2", "mpmath", "ruff")
 
 
@@ -62,7 +64,13 @@ def _planned_files(args, names: list[str]) -> dict[Path, str]:
     files = {code_dir / f"{name}.py": r.source for name, r in results.items()}
     present = {p.stem for p in code_dir.glob("*.py") if p.stem in MODULE_NAMES}
     cases_listed = sorted(set(names) | (set() if _whole(names) else present))
-    files.update({code_dir / "compiled" / f"{n}.py": r.compiled_source for n, r in results.items()})
+    files.update(
+        {
+            code_dir / "compiled" / f"{n}.py": r.compiled_source
+            for n, r in results.items()
+            if r.compiled_source is not None
+        }
+    )
     files[code_dir / "__init__.py"] = render_init(cases_listed)
     files[code_dir / "compiled" / "__init__.py"] = render_compiled_init(cases_listed)
     if _whole(names):

@@ -40,6 +40,10 @@ class Hypot(sp.Function):
 
     nargs = 2
 
+    def fdiff(self, argindex: int = 1) -> sp.Expr:
+        """d|(a, b)|/da = a/|(a, b)|: the chain rule through a length (derive/applied.py)."""
+        return self.args[argindex - 1] / self
+
     def _numpycode(self, printer) -> str:
         a, b = (printer._print(arg) for arg in self.args)
         return f"{printer._module_format('numpy.sqrt')}({a} * {a} + {b} * {b})"

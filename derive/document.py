@@ -11,6 +11,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from derive.applied import ALL_APPLIED
 from derive.derivation import ACCELERATION
 from derive.emit import environment
 from derive.friction import CONTACT_POINTS
@@ -32,6 +33,9 @@ _NAMES = {
     "al2": r"\alpha_2",
 }
 _NAMES.update({"s_len": r"|s|", "s_tan": r"s_{\perp}", "length": r"\ell"})
+_NAMES.update({"s_inv": r"|s|^{-1}", "s_rate": r"\dot{|s|}", "rest_length": "L", "stiffness": "k"})
+_NAMES.update({"damping": "c", "k_lin": r"k_{\mathrm{lin}}", "k_ang": r"k_{\mathrm{ang}}"})
+_NAMES.update({"m1": "m_1", "m2": "m_2", "i1": "I_1"})
 for _stem, _tex in (("n", "n_"), ("v", "v_"), ("s", "s_"), ("l1", "L_1"), ("l2", "L_2")):
     for _c in ("x", "y"):
         _sub = f"{_tex[0]}_{{{_tex[2:]}{_c}}}"  # n_{x}, L_{1x}
@@ -118,6 +122,22 @@ def _rows_context(result: ModuleResult, outputs: dict[str, str]) -> dict:
     }
 
 
+def _applied_context(result: ModuleResult) -> dict:
+    """An applied force: its intermediates, V, R and the generalized forces Q."""
+    a = result.derived
+    definition = ALL_APPLIED[result.name]()
+    forces = [rf"Q_{{{q}}}" for q in ("x_1", "y_1", r"\theta_1", "x_2", "y_2", r"\theta_2")]
+    return {
+        "name": result.name,
+        "title": result.title,
+        "textbook": tex_text(definition.textbook),
+        "intermediates": [(latex(s), latex(v)) for s, v in a.intermediates],
+        "outputs": [("V", latex(a.potential)), ("R", latex(a.dissipation))]
+        + [(name, latex(f, 3)) for name, f in zip(forces, a.forces, strict=False)],
+        "proofs": result.proofs,
+    }
+
+
 def _row_label(k: int, rows: int) -> str:
     return ("_x", "_y")[k] if rows == 2 else ""
 
@@ -128,7 +148,8 @@ def render(results: dict[str, ModuleResult]) -> str:
     env.filters["tex_text"] = tex_text
     template = env.get_template("derivations.tex.j2")
     by_kind = {
-        k: [r for r in results.values() if r.kind == k] for k in ("case", "friction", "joint")
+        k: [r for r in results.values() if r.kind == k]
+        for k in ("case", "friction", "joint", "applied")
     }
     friction = [
         dict(
@@ -151,6 +172,7 @@ def render(results: dict[str, ModuleResult]) -> str:
         cases=[_case_context(r) for r in by_kind["case"]],
         friction=friction,
         joints=joints,
+        applied=[_applied_context(r) for r in by_kind["applied"]],
         osculating=osc,
     )
 

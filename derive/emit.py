@@ -43,6 +43,17 @@ class KernelPrinter(NumPyPrinter):
             return f"{self._module_format('numpy.sqrt')}({self._print(base)})"
         return super()._print_Pow(expr, rational=rational)
 
+    def _print_Mul(self, expr):
+        """A lone denominator x**2 or x**3 printed as a product stays one factor: a / (x * x),
+        not a / x * x (G m1 m2 / r**3 of derive/applied.py)."""
+        text = super()._print_Mul(expr)
+        _, denominator = expr.as_numer_denom()
+        if denominator.is_Pow and denominator.exp.is_Integer and 2 <= denominator.exp <= 3:
+            product = self._print(denominator)
+            if text.endswith("/" + product):
+                return f"{text[: -len(product)]}({product})"
+        return text
+
     def _module_format(self, fqn, register=True):
         return "np." + fqn.split(".", 1)[1] if fqn.startswith("numpy.") else fqn
 

@@ -1,7 +1,8 @@
 """Render every requested module to generated/<name>.py and generated/compiled/<name>.py.
 
 Modules: the four contact cases (the normal row), the friction module of each case
-(<case>_friction: the tangential row) and the joints (pin_joint, distance_joint).
+(<case>_friction: the tangential row), the joints (pin_joint, distance_joint) and the applied
+forces (spring, mutual_gravity, body_damping: NumPy only, the runtime calls them from Python).
 """
 
 from __future__ import annotations
@@ -11,6 +12,8 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from derive.applied import ALL_APPLIED, AppliedDerived, derive_applied
+from derive.applied_proofs import applied_proofs
 from derive.cases import ALL_CASES
 from derive.derivation import Derivatives, derive
 from derive.emit import batch_call, emit_function, environment, format_python, geometry_columns
@@ -18,12 +21,12 @@ from derive.friction import CONTACT_POINTS, FORMULAS, tangential
 from derive.friction_proofs import friction_proofs
 from derive.joint_proofs import joint_proofs
 from derive.joints import ALL_JOINTS, derive_joint
-from derive.kernels import friction_specs, joint_specs, kernel_specs
+from derive.kernels import applied_specs, friction_specs, joint_specs, kernel_specs
 from derive.proofs import Proof, proofs_for
 from derive.rows import Derived
 
 FRICTION_SUFFIX = "_friction"
-MODULES = (*ALL_CASES, *(c + FRICTION_SUFFIX for c in ALL_CASES), *ALL_JOINTS)
+MODULES = (*ALL_CASES, *(c + FRICTION_SUFFIX for c in ALL_CASES), *ALL_JOINTS, *ALL_APPLIED)
 _BATCHED = {
     "case": ("gap", "gap_velocity", "jacobian", "bias"),
     "friction": ("tangent_velocity", "tangent_jacobian", "tangent_bias"),
@@ -35,11 +38,11 @@ _TEMPLATES = {"case": "kernel_module", "friction": "friction_module", "joint": "
 @dataclass(frozen=True)
 class ModuleResult:
     name: str
-    kind: str  # "case", "friction" or "joint"
+    kind: str  # "case", "friction", "joint" or "applied"
     title: str
-    derived: Derivatives | Derived
+    derived: Derivatives | Derived | AppliedDerived
     source: str
-    compiled_source: str
+    compiled_source: str | None  # None: no compiled variant (applied forces)
     proofs: list[Proof]
     seconds: float
 
@@ -47,6 +50,8 @@ class ModuleResult:
 def kind_of(name: str) -> str:
     if name in ALL_CASES:
         return "case"
+    if name in ALL_APPLIED:
+        return "applied"
     return "friction" if name.endswith(FRICTION_SUFFIX) else "joint"
 
 
@@ -108,10 +113,33 @@ def _joint(name: str):
     return joint.title, j, _render("joint", info, specs, joint.geometry), joint_proofs(joint, j)
 
 
+def _applied(name: str):
+    definition = ALL_APPLIED[name]()
+    a = derive_applied(definition)
+    coordinates = ", ".join(str(q) for q in definition.coordinates)
+    info = {
+        "name": name,
+        "title": definition.title,
+        "potential": definition.potential,
+        "dissipation": definition.dissipation,
+        "coordinates": coordinates,
+        "notes": definition.notes,
+    }
+    functions = [emit_function(spec, definition.parameters) for spec in applied_specs(a)]
+    uses_numpy = any(
+        "np." in code
+        for f in functions
+        for code in (f.returns, *(line[1] for line in f.assignments))
+    )
+    template = environment().get_template("applied_module.py.j2")
+    source = template.render(case=info, functions=functions, uses_numpy=uses_numpy)
+    return definition.title, a, (format_python(source), None), applied_proofs(a)
+
+
 def generate_module(name: str) -> ModuleResult:
     start = time.perf_counter()
     kind = kind_of(name)
-    make = {"case": _case, "friction": _friction, "joint": _joint}[kind]
+    make = {"case": _case, "friction": _friction, "joint": _joint, "applied": _applied}[kind]
     title, derived, (source, compiled), proofs = make(name)
     seconds = time.perf_counter() - start
     return ModuleResult(name, kind, title, derived, source, compiled, proofs, seconds)
@@ -144,6 +172,7 @@ def _listed(modules: list[str]) -> dict[str, list[str]]:
             m.removesuffix(FRICTION_SUFFIX) for m in modules if kind_of(m) == "friction"
         ),
         "joints": sorted(m for m in modules if kind_of(m) == "joint"),
+        "applied": sorted(m for m in modules if kind_of(m) == "applied"),
     }
 
 

@@ -124,6 +124,7 @@ def kernel_specs(d: Derivatives) -> list[KernelSpec]:
 # rows beyond the normal: friction (one tangential row per contact) and joints (1 or 2 rows)
 # ------------------------------------------------------------------------------------------
 
+FORCE_NAMES = ("fx1", "fy1", "tau1", "fx2", "fy2", "tau2")
 JACOBIAN_NAMES = ("j1x", "j1y", "j1th", "j2x", "j2y", "j2th")
 STATIC_NOTE = "  [body 2 fixed: v2 = w2 = a2 = al2 = 0]"
 
@@ -239,4 +240,45 @@ def joint_specs(
                 names("b"),
             ),
         ]
+    return specs
+
+
+def applied_specs(a) -> list[KernelSpec]:
+    """The public functions of an applied force's module (derive/applied.py): the generalized
+    forces Q (+ body 2 at rest for a spring) and the potential V when there is one."""
+    definition = a.definition
+    per_body = 3 * definition.bodies
+    rule = "Q = -dV/dq - dR/dq'"
+    specs = [
+        KernelSpec(
+            "force",
+            f"Generalized forces {rule}: force and torque on each body (N, N m).",
+            f"{definition.potential},  {definition.dissipation}",
+            a.intermediates,
+            a.forces,
+            FORCE_NAMES[:per_body],
+        )
+    ]
+    if definition.world_end:
+        specs.append(
+            KernelSpec(
+                "force_static2",
+                f"{rule} on body 1 with body 2 at rest (the world, or a fixed body).",
+                f"{definition.potential},  {definition.dissipation}" + STATIC_NOTE,
+                a.static2.intermediates,
+                a.static2.forces[:3],
+                FORCE_NAMES[:3],
+            )
+        )
+    if a.potential != 0:
+        specs.append(
+            KernelSpec(
+                "potential",
+                "Potential energy V (J): run.energy adds it.",
+                definition.potential,
+                a.intermediates,
+                (a.potential,),
+                ("V",),
+            )
+        )
     return specs

@@ -268,3 +268,60 @@ def joint_rows(joint: str, levers: bool = False) -> tuple[sp.Expr, ...]:
     if joint == "pin_joint":
         return (s[0], s[1])
     return (sp.sqrt(dot(s, s)) - sym("length"),)
+
+
+# ------------------------------------------------------------------------------------------
+# applied forces: the textbook forms (Hooke, Newton, viscous damping) and V, R by definition
+# ------------------------------------------------------------------------------------------
+
+
+def on_bodies(force: sp.Matrix, r1: sp.Matrix, r2: sp.Matrix) -> tuple[sp.Expr, ...]:
+    """A force on body 1 at lever r1 and its opposite on body 2 at lever r2, with torques r x F."""
+    return (force[0], force[1], cross(r1, force), -force[0], -force[1], -cross(r2, force))
+
+
+@cache
+def applied(name: str, levers: bool = False) -> tuple[tuple[sp.Expr, ...], sp.Expr, sp.Expr]:
+    """(force and torque on each body, V, R) of an applied force at the instant, in state
+    symbols: a spring's Hooke force -(k (|s| - L) + c n.s') n along n = s/|s| at the anchors;
+    Newton's G m1 m2 / r^2 between the centres; -k_lin m v and -k_ang I w of a damped body.
+
+    levers: a spring's anchors are X_i + L_i with the levers L_i an arbitrary path (l1_x, l1_x_t,
+    ...; `spring_levers` gives their values), so the forces hold no trigonometry."""
+    if name == "spring":
+        if levers:
+            p1, p2 = B1.centre + vector_path("l1"), B2.centre + vector_path("l2")
+        else:
+            p1, p2 = B1.point(sym("px1"), sym("py1")), B2.point(sym("px2"), sym("py2"))
+        s = p1 - p2
+        length = sp.sqrt(dot(s, s))
+        rate = at_instant(sp.diff(length, TAU))
+        n = at_instant(s / length)
+        stretch = at_instant(length) - sym("rest_length")
+        force = -(sym("stiffness") * stretch + sym("damping") * dot(n, at_instant(s, 1))) * n
+        arms = (at_instant(p1 - B1.centre), at_instant(p2 - B2.centre))
+        potential = sym("stiffness") / 2 * stretch**2
+        return on_bodies(force, *arms), potential, sym("damping") / 2 * rate**2
+    if name == "mutual_gravity":
+        apart = at_instant(B2.centre - B1.centre)
+        r = sp.sqrt(dot(apart, apart))
+        strength = sym("G") * sym("m1") * sym("m2")
+        force = strength / r**2 * apart / r
+        return on_bodies(force, sp.zeros(2, 1), sp.zeros(2, 1)), -strength / r, sp.Integer(0)
+    if name == "body_damping":
+        vx, vy, w = VELOCITY[:3]
+        k_lin, k_ang, m, inertia = sym("k_lin"), sym("k_ang"), sym("m1"), sym("i1")
+        dissipation = (k_lin * m * (vx**2 + vy**2) + k_ang * inertia * w**2) / 2
+        return (-k_lin * m * vx, -k_lin * m * vy, -k_ang * inertia * w), sp.Integer(0), dissipation
+    raise ValueError(f"no reference for applied force {name!r}")
+
+
+def spring_levers() -> dict[sp.Symbol, sp.Expr]:
+    """A spring's levers L_i = R(th_i) a_i to its anchors and their rates at the instant."""
+    out = {}
+    for body in (B1, B2):
+        lever = body.turn(sym(f"px{body.i}"), sym(f"py{body.i}"))
+        for order in range(2):
+            value = at_instant(lever, order)
+            out.update({_named(f"l{body.i}", c, order): value[k] for k, c in enumerate("xy")})
+    return out

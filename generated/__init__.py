@@ -16,6 +16,9 @@ JOINTS: the joints generated here (generated/<joint>.py). JOINT_ID: a fixed numb
 JOINT_ROWS: the constraint rows of each joint (pin 2: x and y; distance 1). JOINT_GEOMETRY_COLUMNS:
 the columns of each joint's geometry in its (m, 7) array (anchor 1 from column 0, anchor 2 from 3,
 then the length).
+
+APPLIED: the applied forces generated here (generated/spring.py, mutual_gravity.py,
+body_damping.py): generalized forces and potentials, called with keyword arguments (ARGUMENTS).
 """
 
 CASES = (
@@ -77,6 +80,12 @@ FRICTION_CASES = (
 JOINTS = (
     "distance_joint",
     "pin_joint",
+)
+
+APPLIED = (
+    "body_damping",
+    "mutual_gravity",
+    "spring",
 )
 
 JOINT_ID = {

@@ -3,49 +3,107 @@
 Why they are a module of their own: unlike gravity they depend on the state (q, v), so they
 enter the free accelerations a0 of Baraff's problem (b = J a0 + bias) at every integrator
 stage, not once per scene (runtime.solve.linked_forces). None of them is a constraint: they
-are explicit forces, each with its closed form:
+are explicit forces.
 
-* spring between anchors p1 (body 1) and p2 (body 2 or the world), s = p1 - p2, n = s/|s|:
-  F1 = -(k (|s| - L) + c n.s') n on body 1 at p1, -F1 on body 2 at p2; energy k (|s| - L)^2 / 2;
-* damping: force -k_lin m v and torque -k_ang I w (k in 1/s): accelerations -k_lin v, -k_ang w;
-* mutual gravitation between every two moving bodies i, j at centres r apart:
-  F_i = G m_i m_j (x_j - x_i) / r^3; energy -G m_i m_j / r.
-
-A scene without any of them never builds this (:meth:`AppliedForces.of` gives None).
+Their forces and energies are the generated kernels (generated/spring.py, mutual_gravity.py,
+body_damping.py): the generalized forces Q = -dV/dq - dR/dq' that SymPy takes of each one's
+potential V and Rayleigh function R (derive/applied.py), and V. Nothing of them is typed here:
+this module gathers each kernel's arguments from the state, by the kernel's ARGUMENTS, and adds
+Q / m and Q / I to the bodies' accelerations. Only the kernels a scene uses are imported, and a
+scene without any of them never builds this (:meth:`AppliedForces.of` gives None).
 """
 
 from __future__ import annotations
 
+import importlib
+from types import ModuleType
+
 import numpy as np
 
+import generated
 from runtime.model.links import WORLD
 
 __all__ = ["AppliedForces", "applied_potential"]
 
+_POSE, _VELOCITY = ("x", "y", "th"), ("vx", "vy", "w")
+
+
+def _kernels(name: str) -> ModuleType:
+    if name not in generated.APPLIED:
+        raise RuntimeError(f"no generated kernel for {name!r}: run regenerate-equations")
+    return importlib.import_module(f"generated.{name}")
+
+
+def _call(module: ModuleType, function: str, values: dict) -> tuple:
+    """The kernel's outputs (arrays, or a constant float such as a zero torque)."""
+    out = getattr(module, function)(**{a: values[a] for a in module.ARGUMENTS[function]})
+    return out if isinstance(out, tuple) else (out,)
+
+
+def _add(out: np.ndarray, body: np.ndarray, forces) -> None:
+    """out[body[k]] += forces[:, k] for (n, 3) ``out``, bodies repeated or not (one bincount:
+    np.add.at costs ~10x)."""
+    f = np.column_stack(np.broadcast_arrays(*forces))
+    flat = (3 * body[:, None] + np.arange(3)).ravel()
+    out += np.bincount(flat, weights=f.ravel(), minlength=out.size).reshape(out.shape)
+
+
+def _state(q: np.ndarray, v: np.ndarray, body: np.ndarray, end: str) -> dict[str, np.ndarray]:
+    """The pose and velocity arguments of end "1" or "2" for bodies ``body``."""
+    values = {f"{n}{end}": q[body, k] for k, n in enumerate(_POSE)}
+    values.update({f"{n}{end}": v[body, k] for k, n in enumerate(_VELOCITY)})
+    return values
+
+
+def _world(size: int) -> dict[str, np.ndarray]:
+    """Body 2 as the world: at the origin with angle 0 (anchor 2 is in world coordinates)."""
+    return {f"{n}2": np.zeros(size) for n in _POSE}
+
 
 class AppliedForces:
-    """The applied forces of one scene, as accelerations (n, 3) at a state."""
+    """The applied forces of one scene, as accelerations (n, 3) at a state, and their energy."""
 
     def __init__(self, scene) -> None:
         bodies = scene.bodies
         self.n = len(bodies)
         self.fixed = np.asarray(scene.fixed, dtype=bool)
         self.inverse_mass = scene.inverse_masses
-        self.mass = np.array([0.0 if b.fixed else b.mass for b in bodies])
-        self.damping = np.array(
-            [(0.0, 0.0, 0.0) if b.fixed else (b.linear_damping,) * 2 + (b.angular_damping,)
-             for b in bodies], dtype=float,
-        ).reshape(-1, 3)  # fmt: skip
+        moving = np.flatnonzero(~self.fixed)
+        mass = np.array([b.mass for b in bodies], dtype=float)
+        inertia = np.array([b.inertia for b in bodies], dtype=float)
+        lin = np.array([b.linear_damping for b in bodies], dtype=float)
+        ang = np.array([b.angular_damping for b in bodies], dtype=float)
+        self.damped = moving[(lin[moving] != 0.0) | (ang[moving] != 0.0)]
+        d = self.damped
+        self.damping = {"m1": mass[d], "i1": inertia[d], "k_lin": lin[d], "k_ang": ang[d]}
         springs = scene.springs
-        self.body1 = np.array([s.body1 for s in springs], dtype=np.int64)
-        self.body2 = np.array([s.body2 for s in springs], dtype=np.int64)
-        self.anchor1 = np.array([s.anchor1 for s in springs], dtype=float).reshape(-1, 2)
-        self.anchor2 = np.array([s.anchor2 for s in springs], dtype=float).reshape(-1, 2)
-        self.rest_length = np.array([s.rest_length for s in springs], dtype=float)
-        self.stiffness = np.array([s.stiffness for s in springs], dtype=float)
-        self.spring_damping = np.array([s.damping for s in springs], dtype=float)
-        self.gravitation = float(scene.mutual_gravity)
-        self.moving = np.flatnonzero(~self.fixed)
+        body1 = np.array([s.body1 for s in springs], dtype=np.int64)
+        body2 = np.array([s.body2 for s in springs], dtype=np.int64)
+        anchor1 = np.array([s.anchor1 for s in springs], dtype=float).reshape(-1, 2)
+        anchor2 = np.array([s.anchor2 for s in springs], dtype=float).reshape(-1, 2)
+        parameters = {
+            "px1": anchor1[:, 0], "py1": anchor1[:, 1], "px2": anchor2[:, 0],
+            "py2": anchor2[:, 1],
+            "rest_length": np.array([s.rest_length for s in springs], dtype=float),
+            "stiffness": np.array([s.stiffness for s in springs], dtype=float),
+            "damping": np.array([s.damping for s in springs], dtype=float),
+        }  # fmt: skip
+        # (body 1, body 2 or None for the world, parameters) of the springs between two bodies
+        # and of those to the world
+        self.springs = []
+        for to_world in (False, True):
+            k = np.flatnonzero((body2 == WORLD) == to_world)
+            if k.size:
+                ends = (body1[k], None if to_world else body2[k])
+                self.springs.append((*ends, {a: p[k] for a, p in parameters.items()}))
+        # every two moving bodies attract (O(n^2) pairs: only when asked)
+        i, j = np.triu_indices(moving.size if scene.mutual_gravity else 0, 1)
+        self.pairs = (moving[i], moving[j])
+        self.gravitation = {"G": float(scene.mutual_gravity), "m1": mass[moving[i]],
+                            "m2": mass[moving[j]]}  # fmt: skip
+        self.body_damping = _kernels("body_damping") if d.size else None
+        self.spring = _kernels("spring") if self.springs else None
+        self.mutual_gravity = _kernels("mutual_gravity") if i.size else None
 
     @classmethod
     def of(cls, scene) -> AppliedForces | None:
@@ -54,74 +112,51 @@ class AppliedForces:
             return None
         return cls(scene)
 
+    def _spring_values(self, q: np.ndarray, v: np.ndarray, body1, body2, parameters) -> dict:
+        values = {**parameters, **_state(q, v, body1, "1")}
+        values.update(_world(body1.size) if body2 is None else _state(q, v, body2, "2"))
+        return values
+
+    def generalized_forces(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """(n, 3) force and torque on each body at (q, v), summed over the applied forces."""
+        out = np.zeros((self.n, 3))
+        if self.body_damping is not None:
+            d = self.damped
+            values = {**self.damping, **_state(q, v, d, "1")}
+            out[d] += np.column_stack(_call(self.body_damping, "force", values))  # d unique
+        for body1, body2, parameters in self.springs:
+            values = self._spring_values(q, v, body1, body2, parameters)
+            if body2 is None:
+                _add(out, body1, _call(self.spring, "force_static2", values))
+            else:
+                f = _call(self.spring, "force", values)
+                _add(out, body1, f[:3])
+                _add(out, body2, f[3:])
+        if self.mutual_gravity is not None:
+            i, j = self.pairs
+            values = {**self.gravitation, **_state(q, v, i, "1"), **_state(q, v, j, "2")}
+            f = _call(self.mutual_gravity, "force", values)
+            _add(out, i, f[:3])
+            _add(out, j, f[3:])
+        return out
+
     def accelerations(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """(n, 3) accelerations (force / m, torque / I) of the applied forces at (q, v)."""
-        acc = -self.damping * v
-        if self.body1.size:
-            self._add_springs(q, v, acc)
-        if self.gravitation and self.moving.size > 1:
-            self._add_gravitation(q, acc)
+        acc = self.generalized_forces(q, v) * self.inverse_mass
         acc[self.fixed] = 0.0
         return acc
 
-    def _ends(self, q: np.ndarray, v: np.ndarray, body: np.ndarray, anchor: np.ndarray):
-        """World lever r (anchor minus centre; the anchor itself for the world), point and
-        point velocity of each spring end."""
-        world = body == WORLD
-        safe = np.where(world, 0, body)
-        th = np.where(world, 0.0, q[safe, 2])
-        c, s = np.cos(th), np.sin(th)
-        lever = np.column_stack([c * anchor[:, 0] - s * anchor[:, 1],
-                                 s * anchor[:, 0] + c * anchor[:, 1]])  # fmt: skip
-        centre = np.where(world[:, None], 0.0, q[safe, :2])
-        w = np.where(world, 0.0, v[safe, 2])
-        velocity = np.where(world[:, None], 0.0, v[safe, :2])
-        velocity = velocity + w[:, None] * np.column_stack([-lever[:, 1], lever[:, 0]])
-        return lever, centre + lever, velocity
-
-    def _spring_state(self, q: np.ndarray, v: np.ndarray):
-        r1, p1, u1 = self._ends(q, v, self.body1, self.anchor1)
-        r2, p2, u2 = self._ends(q, v, self.body2, self.anchor2)
-        s = p1 - p2
-        length = np.hypot(s[:, 0], s[:, 1])
-        return r1, r2, s, length, u1 - u2
-
-    def _add_springs(self, q: np.ndarray, v: np.ndarray, acc: np.ndarray) -> None:
-        r1, r2, s, length, rate = self._spring_state(q, v)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            n = np.where(length[:, None] > 0.0, s / length[:, None], 0.0)
-        stretch = self.stiffness * (length - self.rest_length)
-        magnitude = stretch + self.spring_damping * np.einsum("kc,kc->k", n, rate)
-        force = -magnitude[:, None] * n  # on body 1
-        for body, lever, f in ((self.body1, r1, force), (self.body2, r2, -force)):
-            on = body != WORLD
-            b = body[on]
-            torque = lever[on, 0] * f[on, 1] - lever[on, 1] * f[on, 0]
-            np.add.at(acc, (b, 0), f[on, 0] * self.inverse_mass[b, 0])
-            np.add.at(acc, (b, 1), f[on, 1] * self.inverse_mass[b, 1])
-            np.add.at(acc, (b, 2), torque * self.inverse_mass[b, 2])
-
-    def _pairs(self, q: np.ndarray):
-        i, j = np.triu_indices(self.moving.size, 1)
-        i, j = self.moving[i], self.moving[j]
-        d = q[j, :2] - q[i, :2]
-        return i, j, d, np.hypot(d[:, 0], d[:, 1])
-
-    def _add_gravitation(self, q: np.ndarray, acc: np.ndarray) -> None:
-        i, j, d, r = self._pairs(q)
-        pull = (self.gravitation / r**3)[:, None] * d  # G (x_j - x_i) / r^3
-        np.add.at(acc, (i, slice(0, 2)), self.mass[j, None] * pull)
-        np.add.at(acc, (j, slice(0, 2)), -self.mass[i, None] * pull)
-
     def potential(self, q: np.ndarray) -> float:
         """Energy stored in the springs plus the mutual gravitational energy at ``q`` (J)."""
+        v = np.zeros_like(q)
         energy = 0.0
-        if self.body1.size:
-            _, _, _, length, _ = self._spring_state(q, np.zeros_like(q))
-            energy += float(np.sum(0.5 * self.stiffness * (length - self.rest_length) ** 2))
-        if self.gravitation and self.moving.size > 1:
-            i, j, _, r = self._pairs(q)
-            energy -= float(np.sum(self.gravitation * self.mass[i] * self.mass[j] / r))
+        for body1, body2, parameters in self.springs:
+            values = self._spring_values(q, v, body1, body2, parameters)
+            energy += float(np.sum(_call(self.spring, "potential", values)))
+        if self.mutual_gravity is not None:
+            i, j = self.pairs
+            values = {**self.gravitation, **_state(q, v, i, "1"), **_state(q, v, j, "2")}
+            energy += float(np.sum(_call(self.mutual_gravity, "potential", values)))
         return energy
 
 

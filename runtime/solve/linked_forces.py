@@ -26,7 +26,7 @@ is never touched without one.
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
@@ -39,7 +39,14 @@ from runtime.solve.islands import body_islands, contact_islands, grouped
 from runtime.solve.joints import JointSet
 from runtime.solve.rows import Rows
 
-__all__ = ["LinkedForces"]
+__all__ = ["LinkedForces", "LinkedSolution"]
+
+
+@dataclass(frozen=True)
+class LinkedSolution(ForceSolution):
+    """Also the force of each joint row (N, in JointSet order: run.joint_forces records it)."""
+
+    joint_forces: np.ndarray = None
 
 
 def _concat(a: Rows, b: Rows) -> Rows:
@@ -108,7 +115,7 @@ class LinkedForces(ContactForces):
         out_forces, out_rates, out_guess = np.empty_like(forces), np.empty_like(rates), guess.copy()
         out_forces[order], out_rates[order], out_guess[order] = forces, rates, guess
         problem.guess[:] = out_guess[:m]
-        return ForceSolution(acc, out_forces[:m], out_rates[:m])
+        return LinkedSolution(acc, out_forces[:m], out_rates[:m], out_forces[m:])
 
     def _named(self, exc: lcp.ContactSolverError, rows: np.ndarray, m: int):
         """The solver's failure with its joint rows named (its contact rows in problem order)."""

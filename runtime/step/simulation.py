@@ -50,6 +50,9 @@ class Run:
     contacts at record k and their forces (runtime.app.contact_table gives them as one table);
     friction_forces[k] (N): their friction forces f_t along t = n turned by +90 degrees, on body 1
     (docs/conventions.md; 0 without friction).
+    joint_forces (K, R) (N): the force of each joint row on its body 1, solved with the contact
+    forces, and joint_names (R,) the joint of each row. A pin has two rows, the x and y of its
+    force; a distance joint one, along n = (p1 - p2)/|p1 - p2| (< 0: the rod pulls, tension).
     """
 
     scene_name: str
@@ -67,6 +70,8 @@ class Run:
     contacts: list[Contacts] = field(default_factory=list)
     contact_forces: list[np.ndarray] = field(default_factory=list)
     friction_forces: list[np.ndarray] = field(default_factory=list)
+    joint_forces: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    joint_names: list[str] = field(default_factory=list)
     rhs_evaluations: int = 0
     wall_time: float = 0.0
 
@@ -93,18 +98,21 @@ class Run:
 class _Recorder:
     """Lists while running; a Run of arrays at the end (also of a failed run)."""
 
-    def __init__(self, scene, method: str, dt: float) -> None:
+    def __init__(self, scene, method: str, dt: float, joint_names=()) -> None:
         self.run = Run(scene.name, method, dt, [b.name for b in scene.bodies])
+        self.run.joint_names = list(joint_names)
         self.n = len(scene.bodies)
         self.scene = scene
         self.masses = body_masses(scene)
         self.rows: dict[str, list] = {
-            k: [] for k in ("t", "poses", "velocities", "energy", "momentum", "min_gap", "loss")
+            k: []
+            for k in ("t", "poses", "velocities", "energy", "momentum", "min_gap", "loss", "joints")
         }
 
-    def add(self, state: tuple, frame, recorded, forces, tangent, loss: float) -> None:
+    def add(self, state: tuple, frame, recorded, forces, tangent, loss: float, joints=None) -> None:
         """One record: ``state`` = (t, poses, velocities, energy) and the frame at that time;
-        ``tangent``: the friction forces, None without a friction stage."""
+        ``tangent``: the friction forces, None without a friction stage; ``joints``: the joint
+        rows' forces, None without joints."""
         t, poses, velocities, energy = state
         r = self.rows
         r["t"].append(t)
@@ -118,6 +126,8 @@ class _Recorder:
         self.run.contact_forces.append(np.asarray(forces, dtype=float))
         friction = np.zeros(len(forces)) if tangent is None else np.asarray(tangent, dtype=float)
         self.run.friction_forces.append(friction)
+        rows = len(self.run.joint_names)
+        r["joints"].append(np.full(rows, np.nan) if joints is None else joints[:rows])
 
     def finish(self, world: World, wall: float) -> Run:
         r, run, n = self.rows, self.run, self.n
@@ -128,6 +138,8 @@ class _Recorder:
         run.momentum = np.asarray(r["momentum"], dtype=float).reshape(-1, 2)
         run.min_gap = np.asarray(r["min_gap"], dtype=float)
         run.impact_losses = np.asarray(r["loss"], dtype=float)
+        rows = len(run.joint_names)
+        run.joint_forces = np.asarray(r["joints"], dtype=float).reshape(len(r["t"]), rows)
         run.impact_times = np.asarray(world.impact_times, dtype=float)
         run.rhs_evaluations = world.stepper.evaluations
         run.wall_time = wall
@@ -178,7 +190,9 @@ def simulate(
     _check_arguments(duration, dt, record_every)
     options = {} if resting_speed is None else {"resting_speed": float(resting_speed)}
     world = World(scene, method, stabilisation=stabilisation, guards=guards, **options)
-    recorder = _Recorder(scene, world.method, dt)
+    links = world.stepper.links
+    joints = links.joints if links is not None else None
+    recorder = _Recorder(scene, world.method, dt, [] if joints is None else joints.names)
     steps = max(0, math.ceil(duration / dt - 1e-9))
     start = time.perf_counter()
     lost = 0.0  # at impacts since the last record
@@ -195,6 +209,7 @@ def simulate(
                     report.forces,
                     report.tangent_forces,
                     lost,
+                    report.joint_forces,
                 )
                 lost = 0.0
             lost += report.impact_loss
@@ -202,7 +217,10 @@ def simulate(
                 progress(min(1.0, (k + 1) / steps))
         frame, solution = world.final_frame()
         state = (world.t, world.poses, world.velocities, world.energy())
-        recorder.add(state, frame, frame.resting, solution.forces, solution.tangent_forces, lost)
+        recorder.add(
+            state, frame, frame.resting, solution.forces, solution.tangent_forces, lost,
+            solution.joint_forces,
+        )  # fmt: skip
     except SimulationError as exc:
         exc.run = recorder.finish(world, time.perf_counter() - start)
         raise

@@ -62,6 +62,7 @@ class RestingSolution:
     forces: np.ndarray
     free_rates: np.ndarray
     tangent_forces: np.ndarray | None = None  # friction f_t along t (None: no friction stage)
+    joint_forces: np.ndarray | None = None  # per joint row (runtime.solve.linked_forces)
 
 
 @dataclass
@@ -74,6 +75,7 @@ class StepReport:
     recorded: np.ndarray | None = None  # frame indices of the recorded contacts
     forces: np.ndarray | None = None  # their forces
     tangent_forces: np.ndarray | None = None  # their friction forces (None: no friction stage)
+    joint_forces: np.ndarray | None = None  # the joint rows' forces there
     impact_times: list[float] = field(default_factory=list)
     impact_loss: float = 0.0
 
@@ -264,7 +266,8 @@ class Stepper:
         if tangent is not None:
             ordered = np.empty(m)
             ordered[problem.order], tangent = tangent, ordered
-        return RestingSolution(problem, solution.accelerations, forces, rates, tangent)
+        joints = getattr(solution, "joint_forces", None)  # runtime.solve.linked_forces'
+        return RestingSolution(problem, solution.accelerations, forces, rates, tangent, joints)
 
     def _solve(self, problem: ForceProblem, rows: Rows, q, v) -> ForceSolution:
         """Stage 4 on kernel rows at (q, v); linked scenes' forces depend on the state too."""
@@ -422,11 +425,13 @@ class Stepper:
         if lifting.size == 0:
             report.recorded, report.forces = frame.resting, resting.forces
             report.tangent_forces = resting.tangent_forces
+            report.joint_forces = resting.joint_forces
             return
         every = np.sort(np.concatenate([frame.resting, lifting]))
         solved = self.solve(q, frame, every)
         report.recorded, report.forces = every, solved.forces
         report.tangent_forces = solved.tangent_forces
+        report.joint_forces = solved.joint_forces
 
     def classify(
         self, q: np.ndarray, v: np.ndarray, h: float = 0.0

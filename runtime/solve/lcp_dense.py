@@ -241,11 +241,12 @@ def _warm(S, b, joint, guess, sharp, tol, inv_w, f, L, rows, state, a, tol_a):
         # basic one tells whether the guess can still hold; only then is its least norm sought
         # (over a set that no longer holds, the least-norm stage's Newton method runs out its
         # 100 steps: 9 ms of a landing pile's 88-row island, where pivoting takes 1)
-        if _holds_outside(S, b, f, guess, joint, tol, a, tol_a) and (
-            _least_norm(S, b, joint, inv_w, candidates, n, tol, f) == DONE
-        ):
-            return k, True, True
-    _solve_clamped(S, b, f, L, rows, k)
+        if _holds_outside(S, b, f, guess, joint, tol, a, tol_a):
+            if _least_norm(S, b, joint, inv_w, candidates, n, tol, f) == DONE:
+                return k, True, True
+            _solve_clamped(S, b, f, L, rows, k)  # (the attempt wrote over f)
+    else:
+        _solve_clamped(S, b, f, L, rows, k)
     trial = f.copy()
     if is_solution(S, b, joint, trial, sharp, a, tol_a):
         f[:] = trial

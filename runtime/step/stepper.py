@@ -263,9 +263,10 @@ class Stepper:
         forces, rates = np.empty(m), np.empty(m)
         forces[problem.order], rates[problem.order] = solution.forces, solution.free_rates
         tangent = getattr(solution, "tangent_forces", None)  # runtime.solve.friction's
-        if tangent is not None:
+        if tangent is not None:  # in the order of ``contacts``, as the forces
             ordered = np.empty(m)
-            ordered[problem.order], tangent = tangent, ordered
+            ordered[problem.order] = tangent
+            tangent = ordered
         joints = getattr(solution, "joint_forces", None)  # runtime.solve.linked_forces'
         return RestingSolution(problem, solution.accelerations, forces, rates, tangent, joints)
 

@@ -24,6 +24,7 @@ from runtime import settings
 from runtime.collide.contact_set import Contacts
 from runtime.solve.forces import Stabilisation
 from runtime.solve.lcp import ContactSolverError
+from runtime.step.classify import OPEN
 from runtime.step.guards import (
     FixedEdges,
     Guards,
@@ -191,27 +192,29 @@ class World:
         """The contacts touching now (resting or touching and separating), as arrays: bodies,
         case, point, normal, gap (runtime.collide.contact_set.Contacts)."""
         frame, _ = self._current()
-        return frame.contacts.take(np.flatnonzero(frame.modes != 0))
+        return frame.contacts.take(np.flatnonzero(frame.modes != OPEN))
 
     @property
     def contact_forces(self) -> np.ndarray:
         """The force (N) of each contact of :attr:`contacts` now (0 where it does not rest)."""
-        frame, solution = self._current()
-        touching = np.flatnonzero(frame.modes != 0)
-        forces = np.zeros(len(frame.contacts))
-        forces[frame.resting] = solution.forces
-        return forces[touching]
+        return self._touching(lambda solution: solution.forces)
 
     @property
     def friction_forces(self) -> np.ndarray:
         """The friction force (N) of each contact of :attr:`contacts` now: f_t on body 1 along
         t = n turned by +90 degrees (docs/conventions.md), 0 where it does not rest or has no
         friction."""
+        return self._touching(lambda solution: solution.tangent_forces)
+
+    def _touching(self, of_resting) -> np.ndarray:
+        """A value per contact of :attr:`contacts`: ``of_resting(solution)`` (per resting
+        contact, or None) where it rests, 0 elsewhere."""
         frame, solution = self._current()
-        forces = np.zeros(len(frame.contacts))
-        if solution.tangent_forces is not None:
-            forces[frame.resting] = solution.tangent_forces
-        return forces[np.flatnonzero(frame.modes != 0)]
+        values = np.zeros(len(frame.contacts))
+        resting = of_resting(solution)
+        if resting is not None:
+            values[frame.resting] = resting
+        return values[np.flatnonzero(frame.modes != OPEN)]
 
     def final_frame(self):
         """(frame, resting solution) at the current state, checked by the penetration guard

@@ -114,6 +114,11 @@ LCP_LEAST_NORM_ENOUGH = 1e-9  # relative, as above: good enough when rounding st
 LCP_LEAST_NORM_REGULAR = 1e-14  # relative to a row's curvature: the proximal term of the
 # least-norm dual (runtime.solve.lcp_minnorm) -- keeps it bounded when rounding makes the
 # equations infeasible by ~1e-16, and biases the forces by ~1e-14 of themselves
+LCP_LEAST_NORM_GROWTH = 1e-6  # relative: a proximal-point pass of the least-norm stage (which
+# removes the regularization's bias, runtime.solve.lcp_minnorm.dual_newton) may raise the
+# objective sum f^2/w by this much -- the bias had let the equations be missed, so the exact
+# forces may cost more -- but no more: growth beyond it is a runaway along a direction the
+# equations cannot meet with f >= 0
 LCP_PGS_SWEEPS = 200  # projected Gauss-Seidel sweeps of the last fallback, from the best point
 # found, before its clamped set is solved exactly (it only has to find the set)
 LCP_DENSE_MAX = 64  # rows: islands up to this size use the compiled dense solver, larger ones

@@ -36,6 +36,7 @@ from runtime.solve.lcp_baraff import is_solution, refine
 _STEP_SLOPE = 1e-4  # Armijo: a step must gain this fraction of its first-order promise
 _CONVERGED = settings.LCP_LEAST_NORM_DONE
 _LOOSE = settings.LCP_LEAST_NORM_ENOUGH
+_GROWTH = settings.LCP_LEAST_NORM_GROWTH
 _REGULAR = settings.LCP_LEAST_NORM_REGULAR
 
 
@@ -75,6 +76,50 @@ def least_norm(S, b, joint, inv_w, held, count, dependent, tol, f_out):
         rhs[i] = -b[rows[i]]
     g = np.empty(k)
     fac.solve(L, k, rhs, g)
+    if _attempt(S, b, joint, inv_w, tol, T, g, L, rows, k, others, f_out) == DONE:
+        return DONE
+    # g's rounding of 0 (the large entries', carried into a row by the solve with S_BB and
+    # grown by its conditioning) can make E f = g need a negative force or a spurious one:
+    # infeasible by rounding, which the proximal dual spreads onto other rows, beyond a light
+    # row's tolerance (seen: forces 1e6 apart, g_i = -1e-14 of the largest; and g_i = 1e-4
+    # beside 3e6 with cond(S_BB) ~ 1e5). Entries within their rounding bound are 0 on a second
+    # attempt; the check decides.
+    bound = _rounding(S, b, rows, k, L, g)
+    rounding = False
+    for i in range(k):
+        if g[i] != 0.0 and abs(g[i]) <= bound[i]:
+            g[i] = 0.0
+            rounding = True
+    if not rounding:
+        return FAILED
+    return _attempt(S, b, joint, inv_w, tol, T, g, L, rows, k, others, f_out)
+
+
+@njit
+def _rounding(S, b, rows, k, L, g):
+    """A bound on the rounding in g = -S_BB^-1 b_B (Skeel's, componentwise): 4 eps
+    |S_BB^-1| (|S_BB| |g| + |b_B|), with S_BB^-1 column by column from the factor."""
+    residual_size = np.empty(k)
+    for i in range(k):
+        total = abs(b[rows[i]])
+        for j in range(k):
+            total += abs(S[rows[i], rows[j]] * g[j])
+        residual_size[i] = total
+    bound, unit, column = np.zeros(k), np.zeros(k), np.empty(k)
+    for j in range(k):
+        unit[:] = 0.0
+        unit[j] = 1.0
+        fac.solve(L, k, unit, column)
+        for i in range(k):
+            bound[i] += abs(column[i]) * residual_size[j]
+    return 4.0 * np.finfo(np.float64).eps * bound
+
+
+@njit
+def _attempt(S, b, joint, inv_w, tol, T, g, L, rows, k, others, f_out):
+    """The least-distance problem's forces into f_out, checked (again after refining a_B = 0
+    with the basis, should T's conditioning have cost accuracy): DONE or FAILED."""
+    m, q = b.size, others.size
     f_basis, f_others = np.empty(k), np.empty(q)
     done = dual_newton(
         T, g, inv_w[rows[:k]], inv_w[others], joint[rows[:k]], joint[others], f_basis, f_others
@@ -90,7 +135,7 @@ def least_norm(S, b, joint, inv_w, held, count, dependent, tol, f_out):
     a, tol_a = np.empty(m), np.empty(m)
     if is_solution(S, b, joint, f_out, tol, a, tol_a):
         return DONE
-    refine(S, b, f_out, L, rows, k)  # T may be ill-conditioned: refine a_B = 0 with the basis
+    refine(S, b, f_out, L, rows, k)
     return DONE if is_solution(S, b, joint, f_out, tol, a, tol_a) else FAILED
 
 
@@ -107,14 +152,14 @@ def _drop_noise(f):
 
 
 @njit
-def _forces(T, g, lam, mu, wB, wR, jB, jR, fB, fR, uR, grad):
-    """f(l) = [E^T l]_+ / w and the dual's gradient g - E f - mu l; returns the dual objective
-    g.l - 1/2 sum w u_+^2 - 1/2 mu |l|^2."""
+def _forces(T, g, lam, centre, mu, wB, wR, jB, jR, fB, fR, uR, grad):
+    """f(l) = [E^T l]_+ / w and the dual's gradient g - E f - mu (l - centre); returns the dual
+    objective g.l - 1/2 sum w u_+^2 - 1/2 mu |l - centre|^2."""
     r, q = T.shape
     phi = 0.0
     for i in range(r):
         u = lam[i]
-        phi += g[i] * u - 0.5 * mu[i] * u * u
+        phi += g[i] * u - 0.5 * mu[i] * (u - centre[i]) ** 2
         if jB[i] or u > 0.0:
             fB[i] = wB[i] * u
             phi -= 0.5 * wB[i] * u * u
@@ -131,7 +176,7 @@ def _forces(T, g, lam, mu, wB, wR, jB, jR, fB, fR, uR, grad):
         else:
             fR[c] = 0.0
     for i in range(r):
-        s = g[i] - fB[i] - mu[i] * lam[i]
+        s = g[i] - fB[i] - mu[i] * (lam[i] - centre[i])
         for c in range(q):
             s -= T[i, c] * fR[c]
         grad[i] = s
@@ -142,22 +187,54 @@ def _forces(T, g, lam, mu, wB, wR, jB, jR, fB, fR, uR, grad):
 def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
     """The least-distance problem min sum f_i^2 / w_i s.t. f_B + T f_R = g, contacts >= 0, by
     Newton's method on its (proximally regularized) dual (``w`` here are the inverse weights
-    A_ii / max A_jj). Fills fB, fR; True when the dual's gradient is at rounding level. A full
-    step that keeps every row on its piece solves the dual's quadratic there exactly, so it is
-    taken even when rounding hides its gain in the objective; after it only rounding is left."""
+    A_ii / max A_jj). Fills fB, fR; True when the dual's gradient is at rounding level.
+
+    The proximal term lets E f = g be missed by mu l: rounding beside the largest row, but not
+    always for a light row coupled to heavy ones, whose multiplier the heavy rows' make huge
+    (forces 1e6 apart: a light row missed its LCP tolerance twice over). So while a row misses
+    its own terms' rounding, proximal-point passes re-centre the term at the last l and solve
+    again, each shrinking the miss by mu / (mu + curvature); a pass that would enlarge the
+    forces (a miss the equations cannot meet with f >= 0, rounding of 0 needing f < 0) is not
+    taken."""
     r, q = T.shape
-    lam, trial, step = np.zeros(r), np.empty(r), np.empty(r)
-    grad, grad_t = np.empty(r), np.empty(r)
-    uR, uR_t = np.empty(q), np.empty(q)
-    fB_t, fR_t = np.empty(r), np.empty(q)
-    H, scratch = np.empty((r, r)), np.empty((r, r))
     mu = wB.copy()
     for i in range(r):
         for c in range(q):
             mu[i] += wR[c] * T[i, c] * T[i, c]
         mu[i] *= _REGULAR
-    phi = _forces(T, g, lam, mu, wB, wR, jB, jR, fB, fR, uR, grad)
-    everything = True  # the first step: every row active, the unconstrained least norm
+    lam, centre = np.zeros(r), np.zeros(r)
+    done = _newton(T, g, lam, centre, mu, wB, wR, jB, jR, fB, fR, True)
+    trial, fB_t, fR_t = np.empty(r), np.empty(r), np.empty(q)
+    for _ in range(3):
+        if _rows_met(T, g, fB, fR):
+            break
+        centre[:] = lam
+        trial[:] = lam
+        if not _newton(T, g, trial, centre, mu, wB, wR, jB, jR, fB_t, fR_t, False):
+            break
+        if _objective(fB_t, fR_t, wB, wR) > _objective(fB, fR, wB, wR) * (1.0 + _GROWTH):
+            break
+        lam[:] = trial
+        fB[:] = fB_t
+        fR[:] = fR_t
+        done = True
+    return done
+
+
+@njit
+def _newton(T, g, lam, centre, mu, wB, wR, jB, jR, fB, fR, everything):
+    """Newton's method with a line search on the dual, proximal about ``centre``, from ``lam``
+    (updated). A full step that keeps every row on its piece solves the dual's quadratic there
+    exactly, so it is taken even when rounding hides its gain in the objective; after it only
+    rounding is left. ``everything``: the first step takes every row as active (the
+    unconstrained least norm)."""
+    r, q = T.shape
+    trial, step = np.empty(r), np.empty(r)
+    grad, grad_t = np.empty(r), np.empty(r)
+    uR, uR_t = np.empty(q), np.empty(q)
+    fB_t, fR_t = np.empty(r), np.empty(q)
+    H, scratch = np.empty((r, r)), np.empty((r, r))
+    phi = _forces(T, g, lam, centre, mu, wB, wR, jB, jR, fB, fR, uR, grad)
     for _ in range(100):
         H[:, :] = 0.0
         for i in range(r):
@@ -181,7 +258,7 @@ def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
         for _ in range(60):
             for i in range(r):
                 trial[i] = lam[i] + t * step[i]
-            phi_t = _forces(T, g, trial, mu, wB, wR, jB, jR, fB_t, fR_t, uR_t, grad_t)
+            phi_t = _forces(T, g, trial, centre, mu, wB, wR, jB, jR, fB_t, fR_t, uR_t, grad_t)
             same = t == 1.0 and _same_pieces(lam, uR, trial, uR_t, jB, jR, everything)
             if same or phi_t >= phi + _STEP_SLOPE * t * slope:
                 accepted = True
@@ -201,6 +278,39 @@ def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
         if same:
             return _converged(T, g, fB, fR, _LOOSE)
     return False
+
+
+@njit
+def _rows_met(T, g, fB, fR):
+    """Whether every row of E f = g holds to _CONVERGED of its own terms, or to rounding of
+    the largest row's (which the solve with S_BB carries into every row)."""
+    r, q = T.shape
+    sizes, misses = np.empty(r), np.empty(r)
+    for i in range(r):
+        sizes[i], misses[i] = abs(g[i]) + abs(fB[i]), g[i] - fB[i]
+        for c in range(q):
+            sizes[i] += abs(T[i, c] * fR[c])
+            misses[i] -= T[i, c] * fR[c]
+    floor = 0.0
+    for i in range(r):
+        floor = max(floor, 16.0 * np.finfo(np.float64).eps * sizes[i])
+    for i in range(r):
+        if abs(misses[i]) > max(_CONVERGED * sizes[i], floor):
+            return False
+    return True
+
+
+@njit
+def _objective(fB, fR, wB, wR):
+    """sum f_i^2 / w_i, the least-distance objective (rows of weight 0 carry no force)."""
+    total = 0.0
+    for i in range(fB.size):
+        if wB[i] > 0.0:
+            total += fB[i] * fB[i] / wB[i]
+    for c in range(fR.size):
+        if wR[c] > 0.0:
+            total += fR[c] * fR[c] / wR[c]
+    return total
 
 
 @njit

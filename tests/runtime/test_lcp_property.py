@@ -120,7 +120,15 @@ def test_least_norm_matches_an_independent_qp(problem) -> None:
     # the oracle's own rank decision (SVD) can be ambiguous too: a reference that pulls on a
     # contact (f < 0, seen once under xdist: -8e4 where f0 is a valid answer) is no reference
     assume(np.all(reference[~joint] >= -slack * top))
-    np.testing.assert_allclose(f, reference, rtol=0, atol=slack * top)
+    # ... and so is one with a larger norm than a known solution: f0, or the solver's f when
+    # it solves the LCP (seen with other seeds: an opposed pair carrying 19 N each way where
+    # f0 = 9.81 N on one row solves it; duplicated rows split 72/26 MN where 49/49 solve it).
+    # The least-norm solution is unique, so a valid f no longer than it is it.
+    violation, scale, unit = row_violation(A, b, joint, f)
+    assert np.all(violation <= 4 * (LCP_TOL * scale + LCP_FLOOR * unit))
+    assume(np.linalg.norm(reference) <= np.linalg.norm(f0) * (1 + slack))
+    if np.linalg.norm(f) > np.linalg.norm(reference) * (1 + slack):
+        np.testing.assert_allclose(f, reference, rtol=0, atol=slack * top)
 
 
 @settings(derandomize=True, max_examples=150, deadline=None)
@@ -146,4 +154,8 @@ def test_a_warm_start_from_the_returned_set_is_a_hit(problem) -> None:
         # and the restart's rounding carries it across, one pivot back to the same forces (seen
         # after an unrelated change: constants added to runtime/settings.py flipped one case)
         assert counts[lcp_dense.PATH] in (lcp_dense.WARM_HIT, lcp_dense.PIVOTED)
-        np.testing.assert_allclose(again, f, rtol=1e-9, atol=1e-9 * np.max(np.abs(f)))
+        # the same forces as far as the held set determines them at all: two least-norm solves
+        # reach them by different pivots (seen on CI: 7e-8 apart where cond(D A_PP D) allows 2e-6)
+        P = clamped & (np.diagonal(A) > 0)
+        slack = 1e-9 + (_force_accuracy(A[np.ix_(P, P)]) if P.any() else 0.0)
+        np.testing.assert_allclose(again, f, rtol=0, atol=slack * np.max(np.abs(f)))

@@ -74,6 +74,68 @@ def island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A):
 
 
 @njit
+def island_csr(jac, body1, body2, inv_mass, fixed, start, stop):
+    """The same A as island_matrix for contacts start..stop-1, as CSR arrays (data, indices,
+    indptr) with sorted columns and every diagonal entry stored: a large island's A is sparse
+    (a resting pile of 200 discs: 382 rows, ~6 entries a row), and converting the dense one
+    cost 0.7 ms a solve, more than solving it."""
+    K = stop - start
+    bodies = np.empty(2 * K, np.int64)
+    for a in range(K):
+        bodies[2 * a] = body1[start + a]
+        bodies[2 * a + 1] = body2[start + a]
+    order = np.argsort(bodies, kind="mergesort")
+    first_of, last_of = np.empty(2 * K, np.int64), np.empty(2 * K, np.int64)  # entry -> group
+    first = 0
+    while first < 2 * K:
+        last = first
+        while last < 2 * K and bodies[order[last]] == bodies[order[first]]:
+            last += 1
+        for p in range(first, last):
+            first_of[order[p]], last_of[order[p]] = first, last
+        first = last
+    room = K
+    for e in range(2 * K):
+        if not fixed[bodies[e]]:
+            room += last_of[e] - first_of[e]
+    data, indices = np.empty(room), np.empty(room, np.int64)
+    indptr = np.zeros(K + 1, np.int64)
+    slot = np.full(K, -1, np.int64)  # where column b sits in the row being built
+    n = 0
+    for a in range(K):
+        row_start = n
+        indices[n], data[n], slot[a] = a, 0.0, n
+        n += 1
+        for side_a in range(2):
+            ea = 2 * a + side_a
+            body = bodies[ea]
+            if fixed[body]:
+                continue
+            for p in range(first_of[ea], last_of[ea]):
+                eb = order[p]
+                b, side_b = eb // 2, 3 * (eb % 2)
+                s = 0.0
+                for c in range(3):
+                    s += (
+                        jac[start + a, 3 * side_a + c]
+                        * inv_mass[body, c]
+                        * jac[start + b, side_b + c]
+                    )
+                if slot[b] < row_start:
+                    indices[n], data[n], slot[b] = b, 0.0, n
+                    n += 1
+                data[slot[b]] += s
+        for p in range(row_start + 1, n):  # insertion sort of the row by column
+            col, val, q = indices[p], data[p], p
+            while q > row_start and indices[q - 1] > col:
+                indices[q], data[q] = indices[q - 1], data[q - 1]
+                q -= 1
+            indices[q], data[q] = col, val
+        indptr[a + 1] = n
+    return data[:n], indices[:n], indptr
+
+
+@njit
 def free_rates(jac, body1, body2, bias, free_acc, out):
     """out[k] = J_k a0 + bias_k: b of every contact."""
     for k in range(bias.size):

@@ -125,12 +125,13 @@ class ContactForces:
         )  # fmt: skip
         for g in np.flatnonzero(~solved):  # large islands (sparse), or no solution (named)
             start, stop = int(offsets[g]), int(offsets[g + 1])
-            A = np.empty((stop - start, stop - start))
-            assembly.island_matrix(jac, b1, b2, self.inverse_mass, self.fixed, start, stop, A)
+            K = stop - start
+            csr = assembly.island_csr(jac, b1, b2, self.inverse_mass, self.fixed, start, stop)
             try:
                 f, clamped = lcp.solve_warm(
-                    sparse.csr_array(A), rates[start:stop], guess=problem.guess[start:stop]
-                )
+                    sparse.csr_array(csr, shape=(K, K)), rates[start:stop],
+                    guess=problem.guess[start:stop],
+                )  # fmt: skip
             except lcp.ContactSolverError as exc:
                 rows_named = [start + r for r in exc.rows]
                 raise lcp.ContactSolverError(str(exc), rows_named) from None

@@ -190,7 +190,7 @@ def dual_newton(T, g, wB, wR, jB, jR, fB, fR):
     A_ii / max A_jj). Fills fB, fR; True when the dual's gradient is at rounding level.
 
     The proximal term lets E f = g be missed by mu l: rounding beside the largest row, but not
-    always for a light row coupled to heavy ones, whose multiplier the heavy rows' make huge
+    always for a light row coupled to heavy ones, whose multiplier the heavy rows make huge
     (forces 1e6 apart: a light row missed its LCP tolerance twice over). So while a row misses
     its own terms' rounding, proximal-point passes re-centre the term at the last l and solve
     again, each shrinking the miss by mu / (mu + curvature); a pass that would enlarge the

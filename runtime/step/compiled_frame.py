@@ -28,7 +28,7 @@ from runtime.solve import assembly
 from runtime.solve.impulses import resolve_island
 from runtime.solve.islands import _labels
 from runtime.solve.kernel_set import all_by_case
-from runtime.step.classify import LIFTING, OPEN, RESTING, classify_modes
+from runtime.step.classify import LIFTING, OPEN, RESTING, SEPARATING, classify_modes
 from runtime.step.resting import project_island
 
 
@@ -275,6 +275,7 @@ def settle_frame(
         threshold = tol * scale
         lift_now = np.zeros(gap.size, np.bool_)
         press_now = np.zeros(gap.size, np.bool_)
+        turned = np.zeros(gap.size, np.bool_)
         for k in range(gap.size):
             if modes[k] == RESTING and rate[k] > creep:
                 dd = _gap_acceleration(jac, body1, body2, bias, acc, k)
@@ -286,7 +287,9 @@ def settle_frame(
                 dd = _gap_acceleration(jac, body1, body2, bias, acc, k)
                 if dd < -threshold or rate[k] < -creep:
                     press_now[k] = True
-        if not (np.any(lift_now) or np.any(press_now)):
+            elif modes[k] == SEPARATING and rate[k] <= separation:  # a press slowed it
+                turned[k] = True
+        if not (np.any(lift_now) or np.any(press_now) or np.any(turned)):
             break
         for k in range(gap.size):
             if lift_now[k]:
@@ -295,6 +298,11 @@ def settle_frame(
             elif press_now[k]:
                 modes[k] = RESTING
                 pressed[k] = True
+            elif turned[k]:  # touching, no longer moving apart: it rests, pressed if closing
+                modes[k] = RESTING
+                if rate[k] < -creep:
+                    press_now[k] = True
+                    pressed[k] = True
         if np.any(press_now):
             target = pressed & (modes == RESTING)
             if not _press(jac, body1, body2, inv_mass, fixed, modes, target, rate, limit, v,

@@ -19,7 +19,12 @@ is a plastic landing, so it is applied at once:
 * one moving apart with d'' > 0 and no force really lifts off: it is marked ``LIFTING``, left
   out of the force computation of the step and watched for its return (an impact located in
   time); a lifting contact that the new forces would press, or that a press has turned to
-  approach, is brought back and pressed.
+  approach, is brought back and pressed;
+* a touching contact separating before a press and no longer after it (the press moves the
+  island's bodies, and a near-mechanism moves them by far more than the d' it removes) rests,
+  and is pressed if it now approaches. Left free it was watched for an impact that had
+  already happened (gap ~0, closing at t = 0), or for one that never comes while gravity
+  pushes it in (gap ~0, d' = 0, d'' < 0): landing piles overlapped by 5e-6 and 3e-7 m.
 
 This repeats until it settles (a press can change the forces, and so what lifts); islands
 pressed once stay pressed in the later rounds (else the rounds go back and forth).
@@ -41,7 +46,7 @@ from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import assembly
 from runtime.solve.islands import body_islands, contact_islands, grouped
-from runtime.step.classify import LIFTING, RESTING, Bodies, Frame
+from runtime.step.classify import LIFTING, RESTING, SEPARATING, Bodies, Frame
 
 
 def settle(
@@ -49,6 +54,7 @@ def settle(
     solve: Callable[[Frame], object],
     bodies: Bodies,
     creep_speed: float,
+    separation_speed: float,
     recovery: float = 0.0,
     rounds: int = settings.SETTLE_ROUNDS,
 ):
@@ -65,7 +71,8 @@ def settle(
         modes, rate = frame.modes, frame.rows.gap_velocity
         rest, lift = frame.resting, frame.lifting
         apart = rate[rest] > np.maximum(creep_speed, -recovery * frame.rows.gap[rest])
-        if not apart.any() and lift.size == 0:
+        turned = np.flatnonzero((modes == SEPARATING) & (rate <= separation_speed))
+        if not apart.any() and lift.size == 0 and turned.size == 0:
             break
         tol = settings.LCP_TOL * float(np.max(np.abs(solution.free_rates), initial=1.0))
         acc = solution.accelerations
@@ -73,13 +80,15 @@ def settle(
         back = np.zeros(lift.size, dtype=bool)
         if lift.size:  # pressed by the current forces, or pulled back by a press
             back = (_gap_acceleration(frame, lift, acc) < -tol) | (rate[lift] < -creep_speed)
-        to_press = np.concatenate([rest[apart & ~lifts], lift[back]])
+        closing = turned[rate[turned] < -creep_speed]  # the others rest as they are
+        to_press = np.concatenate([rest[apart & ~lifts], lift[back], closing])
         to_lift = rest[lifts]
-        if to_press.size == 0 and to_lift.size == 0:
+        if to_press.size == 0 and to_lift.size == 0 and turned.size == 0:
             break
         modes = modes.copy()
         modes[to_lift] = LIFTING
         modes[lift[back]] = RESTING
+        modes[turned] = RESTING
         frame = replace(frame, modes=modes)
         held[to_lift] = False
         if to_press.size:

@@ -174,8 +174,9 @@ class Stepper:
             frame = make_frame(self.evaluator, self.bodies, contacts, q, v, margin, self.held,
                                limits, self.recent, keys, impacts)  # fmt: skip
             done = settle(
-                frame, partial(self.solve, q), self.bodies, limits.creep_speed, self.recovery
-            )
+                frame, partial(self.solve, q), self.bodies, limits.creep_speed,
+                limits.separation_speed, self.recovery,
+            )  # fmt: skip
             if self.links is not None:
                 done = self.links.hold_joints(q, frame, done, partial(self.solve, q))
             if self.friction is not None:

@@ -62,7 +62,9 @@ def settle(
     marked, and ``solve(frame)`` of its resting set (an object with ``forces`` and
     ``free_rates`` per resting contact, in frame.resting order, and ``accelerations``).
     ``recovery`` (1/s): a penetrating contact moving apart at up to this x its depth is
-    recovering under the stabilisation, not moving apart (see the module docstring)."""
+    recovering under the stabilisation, not moving apart (see the module docstring).
+    ``separation_speed``: a touching contact that a press leaves moving apart no faster than
+    this rests (runtime.step.classify)."""
     solution = solve(frame)
     if len(frame.contacts) == 0:
         return frame, solution

@@ -33,8 +33,9 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import pytest
 import strategies as S
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, Phase, find, given, settings
 from hypothesis import strategies as st
 
 import runtime
@@ -159,23 +160,32 @@ def test_runs_are_bitwise_reproducible_across_processes():
     assert int(outputs[0][1]) > 0  # the run has impacts, not just free fall
 
 
-def test_the_strategy_spans_six_orders_of_magnitude_and_every_shape():
-    """The examples above come from this range: both ends and every shape kind are reached."""
-    seen: list[S.Drawn] = []
+_REACHED = {
+    "small scale": lambda d: 1e-3 <= d.scale < 3e-3,
+    "large scale": lambda d: 3e2 < d.scale <= 1e3,
+    "four bodies": lambda d: len(d.bodies) - 1 == 4,
+    **{
+        kind: lambda d, k=kind: any(b["shape"]["type"] == k for b in d.bodies[1:])
+        for kind in S.SHAPE_KINDS
+    },
+    **{env: lambda d, e=env: d.environment == e for env in S.ENVIRONMENTS},
+    **{method: lambda d, m=method: d.data["simulation"]["method"] == m for method in S.METHODS},
+}
 
-    @fuzz(300)
-    @given(S.drawn_scenes())
-    def collect(drawn):
-        seen.append(drawn)
 
-    collect()
-    scales = [d.scale for d in seen]
-    assert 1e-3 <= min(scales) < 3e-3 and 3e2 < max(scales) <= 1e3
-    kinds = {b["shape"]["type"] for d in seen for b in d.bodies[1:]}
-    assert kinds == set(S.SHAPE_KINDS)
-    assert {d.environment for d in seen} == set(S.ENVIRONMENTS)
-    assert {d.data["simulation"]["method"] for d in seen} == set(S.METHODS)
-    assert max(len(d.bodies) - 1 for d in seen) == 4
+@pytest.mark.parametrize("what", list(_REACHED))
+def test_the_strategy_spans_six_orders_of_magnitude_and_every_shape(what):
+    """The examples above come from this range: both ends of the scale, every shape kind,
+    environment and method are reached. Searched for (hypothesis.find), not counted in a sample:
+    300 draws missed the small end under some seeds (the examples differ between machines)."""
+    condition = _REACHED[what]
+    found = find(
+        S.drawn_scenes(),
+        condition,
+        settings=settings(max_examples=3000, database=None, phases=[Phase.generate]),
+    )
+    assert condition(found), what
+    assert 1e-3 <= found.scale <= 1e3 and 1 <= len(found.bodies) - 1 <= 4  # never beyond
 
 
 # -- random bad input -----------------------------------------------------------------------

@@ -14,7 +14,8 @@ Checked against these independent references:
   Cauchy-Schwarz), tol_j the rows' tolerances;
 * least norm: |f| <= |f0| (f0 is one of the solutions; up to 64 eps cond(D A D), how well
   forces are determined at all), and on small problems f equals the least-distance QP over
-  the rows where a0 = 0 (tests/lcp_oracle.py, scipy's NNLS);
+  the rows where a0 = 0 (tests/lcp_oracle.py, scipy's NNLS) -- where redundancy is clear-cut
+  (``_ambiguous``: with rows near-redundant at 1e-12..1e-5, which ones count is a choice);
 * the warm start: solving again from the returned clamped set is a warm hit with the same f.
 """
 
@@ -70,8 +71,11 @@ def _acceleration_bound(A, b, joint, f, f0) -> np.ndarray:
     """sqrt(A_ii sum_j (|f_j| + |f0_j|) tol_j): how far a valid f's a may be from a0."""
     scale = np.abs(A) @ (np.abs(f) + np.abs(f0)) + np.abs(b)
     _, _, unit = row_violation(A, b, joint, np.maximum(np.abs(f), np.abs(f0)))
-    budget = np.sum((np.abs(f) + np.abs(f0)) * 4 * (LCP_TOL * scale + LCP_FLOOR * unit))
-    return np.sqrt(np.diagonal(A) * budget) + 16 * np.finfo(float).eps * scale
+    # in units of the largest force, so that forces of 1e-203 N (drawn) do not underflow it
+    top = max(float(np.max(np.abs(f) + np.abs(f0))), np.finfo(float).tiny)
+    allowed = 4 * (LCP_TOL * scale + LCP_FLOOR * unit)
+    budget = np.sum((np.abs(f) + np.abs(f0)) / top * (allowed / top))
+    return top * np.sqrt(np.diagonal(A) * budget) + 16 * np.finfo(float).eps * scale
 
 
 @settings(derandomize=True, max_examples=300, deadline=None)
@@ -83,7 +87,21 @@ def test_random_contact_sets_are_solved(problem) -> None:
     violation, scale, unit = row_violation(A, b, joint, f)
     assert np.all(violation <= 4 * (LCP_TOL * scale + LCP_FLOOR * unit))
     assert np.all(np.abs(A @ f + b - a0) <= _acceleration_bound(A, b, joint, f, f0))
-    assert np.linalg.norm(f) <= np.linalg.norm(f0) * (1 + 1e-6 + _force_accuracy(A))
+    P = joint | (a0 == 0)
+    if not _ambiguous(A[np.ix_(P, P)]):  # (with near-redundant rows, seen 2.4e-5 above |f0|)
+        assert np.linalg.norm(f) <= np.linalg.norm(f0) * (1 + 1e-6 + _force_accuracy(A))
+
+
+def _ambiguous(A_PP) -> bool:
+    """Whether a held set's D A_PP D has an eigenvalue between 1e-12 and 1e-5 of its largest:
+    rows near-redundant (the solver counts rows within LCP_REDUNDANT = 1e-6 of the others'
+    span as redundant when the tolerance allows), so which ones count is ambiguous and the
+    least-norm forces with it, to ~1e-9 of the largest."""
+    if A_PP.size == 0:
+        return False
+    D = 1.0 / np.sqrt(np.diagonal(A_PP))
+    spectrum = np.linalg.eigvalsh(D[:, None] * A_PP * D[None, :])
+    return bool(np.any((spectrum > 1e-12 * spectrum[-1]) & (spectrum < 1e-5 * spectrum[-1])))
 
 
 def _force_accuracy(A) -> float:
@@ -106,10 +124,7 @@ def test_least_norm_matches_an_independent_qp(problem) -> None:
     to 1e-9 forces) are left to the other properties."""
     A, b, joint, f0, a0 = problem
     P = joint | (a0 == 0)
-    if P.any():
-        D = 1.0 / np.sqrt(np.diagonal(A)[P])
-        spectrum = np.linalg.eigvalsh(D[:, None] * A[np.ix_(P, P)] * D[None, :])
-        assume(not np.any((spectrum > 1e-12 * spectrum[-1]) & (spectrum < 1e-5 * spectrum[-1])))
+    assume(not _ambiguous(A[np.ix_(P, P)]))
     f = lcp.solve(A, b, joint)
     try:
         reference = least_norm_qp(A, b, joint, a0, held_tol=0.0)
@@ -127,6 +142,11 @@ def test_least_norm_matches_an_independent_qp(problem) -> None:
     violation, scale, unit = row_violation(A, b, joint, f)
     assert np.all(violation <= 4 * (LCP_TOL * scale + LCP_FLOOR * unit))
     assume(np.linalg.norm(reference) <= np.linalg.norm(f0) * (1 + slack))
+    # ... and so is one that solves the problem only to the tolerance, not to rounding (99 % of
+    # references meet 5 eps of their terms; seed 54 drew one at 5e3 eps: rows 1e-8 apart that
+    # the SVD took as dependent, where the solver returned the unique exact solution)
+    ref_violation, ref_scale, ref_unit = row_violation(A, b, joint, reference)
+    assume(np.all(ref_violation <= 1e3 * np.finfo(float).eps * ref_scale + LCP_FLOOR * ref_unit))
     if np.linalg.norm(f) > np.linalg.norm(reference) * (1 + slack):
         np.testing.assert_allclose(f, reference, rtol=0, atol=slack * top)
 
@@ -155,7 +175,9 @@ def test_a_warm_start_from_the_returned_set_is_a_hit(problem) -> None:
         # after an unrelated change: constants added to runtime/settings.py flipped one case)
         assert counts[lcp_dense.PATH] in (lcp_dense.WARM_HIT, lcp_dense.PIVOTED)
         # the same forces as far as the held set determines them at all: two least-norm solves
-        # reach them by different pivots (seen on CI: 7e-8 apart where cond(D A_PP D) allows 2e-6)
+        # reach them by different pivots (seen on CI: 7e-8 apart where cond(D A_PP D) allows 2e-6),
+        # each within that accuracy of the exact forces, so within twice it of each other
         P = clamped & (np.diagonal(A) > 0)
-        slack = 1e-9 + (_force_accuracy(A[np.ix_(P, P)]) if P.any() else 0.0)
-        np.testing.assert_allclose(again, f, rtol=0, atol=slack * np.max(np.abs(f)))
+        slack = 1e-9 + (2 * _force_accuracy(A[np.ix_(P, P)]) if P.any() else 0.0)
+        if not _ambiguous(A[np.ix_(P, P)]):  # (which near-redundant rows count: the QP test's)
+            np.testing.assert_allclose(again, f, rtol=0, atol=slack * np.max(np.abs(f)))

@@ -284,17 +284,11 @@ def _newton(T, g, lam, centre, mu, wB, wR, jB, jR, fB, fR, everything):
 def _rows_met(T, g, fB, fR):
     """Whether every row of E f = g holds to _CONVERGED of its own terms, or to rounding of
     the largest row's (which the solve with S_BB carries into every row)."""
-    r, q = T.shape
-    sizes, misses = np.empty(r), np.empty(r)
-    for i in range(r):
-        sizes[i], misses[i] = abs(g[i]) + abs(fB[i]), g[i] - fB[i]
-        for c in range(q):
-            sizes[i] += abs(T[i, c] * fR[c])
-            misses[i] -= T[i, c] * fR[c]
-    floor = 0.0
-    for i in range(r):
-        floor = max(floor, 16.0 * np.finfo(np.float64).eps * sizes[i])
-    for i in range(r):
+    sizes, misses = _residual(T, g, fB, fR)
+    if sizes.size == 0:
+        return True
+    floor = 16.0 * np.finfo(np.float64).eps * np.max(sizes)
+    for i in range(sizes.size):
         if abs(misses[i]) > max(_CONVERGED * sizes[i], floor):
             return False
     return True
@@ -331,14 +325,18 @@ def _converged(T, g, fB, fR, bound):
     """Whether E f = g holds to ``bound`` times the size of its terms (the largest row's: a
     row whose g is rounding of 0 and cannot be met with f >= 0 is met). The proximal term may
     only absorb rounding: a miss beyond it means the equations were not solved."""
+    sizes, misses = _residual(T, g, fB, fR)
+    return sizes.size == 0 or np.max(np.abs(misses)) <= bound * np.max(sizes)
+
+
+@njit
+def _residual(T, g, fB, fR):
+    """Row by row, the size of E f = g's terms and its miss g - E f."""
     r, q = T.shape
-    size, worst = 0.0, 0.0
+    sizes, misses = np.empty(r), np.empty(r)
     for i in range(r):
-        row = abs(g[i]) + abs(fB[i])
-        miss = g[i] - fB[i]
+        sizes[i], misses[i] = abs(g[i]) + abs(fB[i]), g[i] - fB[i]
         for c in range(q):
-            row += abs(T[i, c] * fR[c])
-            miss -= T[i, c] * fR[c]
-        size = max(size, row)
-        worst = max(worst, abs(miss))
-    return worst <= bound * size
+            sizes[i] += abs(T[i, c] * fR[c])
+            misses[i] -= T[i, c] * fR[c]
+    return sizes, misses

@@ -183,7 +183,8 @@ def solve_with_guess(A, b, K, guess, tol, f):
     to tol relative to the row's scale |b_k| + sum_j |A_kj| f_j; False if the guess does not
     give such a solution (then the pivoting solver must find the set)."""
     if K == 1:  # one contact (most islands of a scattered scene): no index array to allocate
-        return _solve_one(A[0, 0], b[0], guess[0], tol, f)
+        f[0], solved = _solve_one(A[0, 0], b[0], guess[0], tol)
+        return solved
     count = 0
     for k in range(K):
         if guess[k]:
@@ -236,20 +237,21 @@ def solve_with_guess(A, b, K, guess, tol, f):
 
 
 @njit
-def _solve_one(A, b, held, tol, f):
-    """solve_with_guess for one row, the same arithmetic in the same order."""
-    f[0] = 0.0
+def _solve_one(A, b, held, tol):
+    """(f, solved): solve_with_guess for one row, the same arithmetic in the same order, on
+    scalars (an array view per island costs more than the arithmetic of one row)."""
+    f = 0.0
     if held:
         if not A > 0.0:
-            return False
-        f[0] = -b / A
-        if f[0] < 0.0:
-            return False
-    a = b + A * f[0]
-    scale = abs(b) + abs(A) * f[0]
+            return 0.0, False
+        f = -b / A
+        if f < 0.0:
+            return f, False
+    a = b + A * f
+    scale = abs(b) + abs(A) * f
     if held:
-        return not abs(a) > tol * scale
-    return not a < -tol * scale
+        return f, not abs(a) > tol * scale
+    return f, not a < -tol * scale
 
 
 @njit
@@ -285,6 +287,12 @@ def solve_small_islands(
         if stop - start > limit:
             ok[g] = False
             continue
+        if stop - start == 1:  # most islands of a scattered scene: on scalars, no views
+            diagonal = _self_product(jac, body1[start], 0, inv_mass, fixed, start)
+            diagonal += _self_product(jac, body2[start], 3, inv_mass, fixed, start)
+            forces[start], ok[g] = _solve_one(diagonal, rates[start], guess[start], tol)
+            if ok[g]:
+                continue
         island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A)
         K, b, f = stop - start, rates[start:stop], forces[start:stop]
         if solve_with_guess(A, b, K, guess[start:stop], tol, f):

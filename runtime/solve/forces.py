@@ -20,6 +20,7 @@ import numpy as np
 from scipy import sparse
 
 from runtime import settings
+from runtime.collide.contact_keys import Guesses
 from runtime.collide.contact_set import Contacts
 from runtime.solve import assembly, lcp
 from runtime.solve.islands import grouped
@@ -54,7 +55,7 @@ class ForceProblem:
     offsets: np.ndarray
     guess: np.ndarray
     labels: np.ndarray
-    keys: list  # of the contacts (runtime.collide.contact_keys)
+    keys: np.ndarray  # of the contacts (runtime.collide.contact_keys)
 
     def subset(self, keep: np.ndarray) -> ForceProblem:
         """The problem of the contacts ``keep`` (a bool mask over the problem's rows), whole
@@ -67,7 +68,7 @@ class ForceProblem:
             offsets,
             self.guess[index].copy(),
             self.labels[index],
-            [self.keys[k] for k in index],
+            self.keys[index],
         )
 
 
@@ -87,22 +88,22 @@ class ContactForces:
         self.free_acceleration = np.zeros((len(self.fixed), 3))
         self.free_acceleration[~self.fixed, :2] = scene.gravity
         self.stabilisation = stabilisation
-        self.memory: dict = {}  # contact key -> clamped at its last solve
+        self.memory = Guesses()  # contact key -> clamped at its last solve
 
     def problem(
-        self, contacts: Contacts, island_of_contact: np.ndarray, keys: list
+        self, contacts: Contacts, island_of_contact: np.ndarray, keys: np.ndarray
     ) -> ForceProblem:
         """The resting set ``contacts`` (with the island label and the key of each:
         runtime.collide.contact_keys) ordered by island."""
         order, offsets = grouped(island_of_contact)
         ordered = contacts.take(order)
-        keys = [keys[k] for k in order.tolist()]
-        guess = np.array([self.memory.get(k, False) for k in keys], dtype=bool)
+        keys = keys[order]
+        guess = self.memory.get(keys)
         return ForceProblem(ordered, order, offsets, guess, island_of_contact[order], keys)
 
     def remember(self, problem: ForceProblem) -> None:
         """Keep the problem's clamped sets as the guesses of later problems."""
-        self.memory.update(zip(problem.keys, problem.guess.tolist(), strict=True))
+        self.memory.update(problem.keys, problem.guess)
 
     def solve(self, problem: ForceProblem, rows: Rows) -> ForceSolution:
         """Accelerations and forces for the problem's contacts with kernel ``rows`` (in the

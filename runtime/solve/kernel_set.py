@@ -25,36 +25,37 @@ if [generated.CASE_ID[c] for c in ("vertex_edge", "vertex_circle", "circle_edge"
 
 
 @njit
-def rows_by_case(q, v, case, body1, body2, geometry, static2, jac, bias):
-    """Jacobian rows and biases of every contact, each case by its generated batch_rows."""
-    members = np.flatnonzero(case == 0)
-    if members.size:
-        vertex_edge.batch_rows(q, v, body1, body2, geometry, static2, members, jac, bias)
-    members = np.flatnonzero(case == 1)
-    if members.size:
-        vertex_circle.batch_rows(q, v, body1, body2, geometry, static2, members, jac, bias)
-    members = np.flatnonzero(case == 2)
-    if members.size:
-        circle_edge.batch_rows(q, v, body1, body2, geometry, static2, members, jac, bias)
-    members = np.flatnonzero(case == 3)
-    if members.size:
-        circle_circle.batch_rows(q, v, body1, body2, geometry, static2, members, jac, bias)
+def by_case(case):
+    """The contacts of each case id (0-3), as index arrays: found once, used at every stage."""
+    return (np.flatnonzero(case == 0), np.flatnonzero(case == 1), np.flatnonzero(case == 2),
+            np.flatnonzero(case == 3))  # fmt: skip
 
 
 @njit
-def all_by_case(q, v, case, body1, body2, geometry, static2, gap, rate, jac, bias):
-    """d, d', Jacobian rows and biases of every contact, each case by its generated batch_all."""
-    members = np.flatnonzero(case == 0)
-    if members.size:
-        vertex_edge.batch_all(q, v, body1, body2, geometry, static2, members, gap, rate, jac, bias)
-    members = np.flatnonzero(case == 1)
-    if members.size:
-        vertex_circle.batch_all(q, v, body1, body2, geometry, static2, members, gap, rate, jac,
-                                bias)  # fmt: skip
-    members = np.flatnonzero(case == 2)
-    if members.size:
-        circle_edge.batch_all(q, v, body1, body2, geometry, static2, members, gap, rate, jac, bias)
-    members = np.flatnonzero(case == 3)
-    if members.size:
-        circle_circle.batch_all(q, v, body1, body2, geometry, static2, members, gap, rate, jac,
-                                bias)  # fmt: skip
+def rows_by_case(q, v, members, body1, body2, geometry, static2, jac, bias):
+    """Jacobian rows and biases of every contact (``members``: :func:`by_case`), each case by
+    its generated batch_rows."""
+    m0, m1, m2, m3 = members
+    if m0.size:
+        vertex_edge.batch_rows(q, v, body1, body2, geometry, static2, m0, jac, bias)
+    if m1.size:
+        vertex_circle.batch_rows(q, v, body1, body2, geometry, static2, m1, jac, bias)
+    if m2.size:
+        circle_edge.batch_rows(q, v, body1, body2, geometry, static2, m2, jac, bias)
+    if m3.size:
+        circle_circle.batch_rows(q, v, body1, body2, geometry, static2, m3, jac, bias)
+
+
+@njit
+def all_by_case(q, v, members, body1, body2, geometry, static2, gap, rate, jac, bias):
+    """d, d', Jacobian rows and biases of every contact (``members``: :func:`by_case`), each
+    case by its generated batch_all."""
+    m0, m1, m2, m3 = members
+    if m0.size:
+        vertex_edge.batch_all(q, v, body1, body2, geometry, static2, m0, gap, rate, jac, bias)
+    if m1.size:
+        vertex_circle.batch_all(q, v, body1, body2, geometry, static2, m1, gap, rate, jac, bias)
+    if m2.size:
+        circle_edge.batch_all(q, v, body1, body2, geometry, static2, m2, gap, rate, jac, bias)
+    if m3.size:
+        circle_circle.batch_all(q, v, body1, body2, geometry, static2, m3, gap, rate, jac, bias)

@@ -32,6 +32,7 @@ from functools import partial
 import numpy as np
 
 from runtime import settings
+from runtime.collide.contact_keys import member
 from runtime.solve import assembly, impulses, lcp
 from runtime.solve.applied_forces import AppliedForces
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution
@@ -141,8 +142,6 @@ class LinkedForces(ContactForces):
     ):
         """runtime.step.classify's impacts with the joints held: (impulse per contact, velocity
         change (n, 3)); ``joint_rows`` at the state of ``rows`` (see the module docstring)."""
-        from runtime.step.classify import member
-
         n = self.n
         b1, b2 = self.joined(rows.body1[touching], rows.body2[touching])
         body_label = body_islands(n, b1, b2, bodies.fixed)

@@ -46,6 +46,7 @@ from enum import IntEnum
 import numpy as np
 
 from runtime import settings
+from runtime.collide.contact_keys import member
 from runtime.collide.contact_set import Contacts
 from runtime.compiled import njit
 from runtime.solve import assembly, impulses
@@ -129,7 +130,7 @@ class Frame:
     impacts among them have been resolved."""
 
     contacts: Contacts
-    keys: list  # identity of each contact (runtime.collide.contact_keys)
+    keys: np.ndarray  # identity of each contact (runtime.collide.contact_keys)
     rows: Rows  # kernel rows with the velocities after the impacts
     modes: np.ndarray  # Mode per contact (plain ints)
     velocities: np.ndarray  # (n, 3) after the impacts
@@ -154,13 +155,6 @@ class Frame:
     @property
     def min_gap(self) -> float:
         return float(np.min(self.rows.gap)) if len(self.rows.gap) else np.inf
-
-
-def member(keys: list, keyset: set | frozenset) -> np.ndarray:
-    """Whether each key is in ``keyset``, as a bool array."""
-    if not keyset:
-        return np.zeros(len(keys), dtype=bool)
-    return np.fromiter((k in keyset for k in keys), dtype=bool, count=len(keys))
 
 
 @dataclass(frozen=True)
@@ -197,10 +191,10 @@ def make_frame(
     poses: np.ndarray,
     velocities: np.ndarray,
     margin: np.ndarray,
-    held: set,
+    held: np.ndarray,
     limits: Limits,
-    recent: set | frozenset,
-    keys: list,
+    recent: np.ndarray,
+    keys: np.ndarray,
     impacts=None,
 ) -> Frame:
     """Classify ``contacts`` (``keys``: their keys, runtime.collide.contact_keys; ``held``:

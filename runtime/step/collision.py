@@ -30,7 +30,7 @@ class Collision:
         allowed = None if active is None else active | self.fixed
         return self.finder.find(poses, self.tolerance, margin, allowed)
 
-    def key_list(self, contacts: Contacts) -> list:
+    def keys(self, contacts: Contacts) -> np.ndarray:
         """The identity of each contact across steps (runtime.collide.contact_keys)."""
         return self.finder.keys.of_contacts(contacts)
 

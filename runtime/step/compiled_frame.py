@@ -27,16 +27,22 @@ from runtime.compiled import njit
 from runtime.solve import assembly
 from runtime.solve.impulses import resolve_island
 from runtime.solve.islands import _labels
-from runtime.solve.kernel_set import all_by_case
+from runtime.solve.kernel_set import all_by_case, by_case
 from runtime.step.classify import LIFTING, OPEN, RESTING, SEPARATING, classify_modes
 from runtime.step.resting import project_island
 
 
 @njit
 def _groups(labels, members):
-    """(order, offsets) of ``members`` grouped by their labels (stable)."""
+    """(grouped, offsets): ``members`` grouped by their labels (stable), and where each group
+    starts. Labels already in order (contacts come by pair, so often) are not sorted again."""
     sub = labels[members]
-    order = np.argsort(sub, kind="mergesort")
+    ordered = True
+    for k in range(1, sub.size):
+        if sub[k] < sub[k - 1]:
+            ordered = False
+            break
+    order = np.arange(sub.size) if ordered else np.argsort(sub, kind="mergesort")
     grouped = members[order]
     starts = [0]
     for k in range(1, grouped.size):
@@ -168,22 +174,32 @@ def _forces(jac, body1, body2, bias, inv_mass, fixed, free_acc, modes, guess, to
     order[: members.size] = members
     offsets_out[: offsets.size] = offsets
     labels_out[: members.size] = labels[members]
-    sub_jac = np.ascontiguousarray(jac[members])
-    sub_b1, sub_b2 = body1[members], body2[members]
-    sub_f, sub_b = np.zeros(members.size), np.zeros(members.size)
-    sub_guess = guess[members]
+    every = members.size == modes.size  # all resting and in island order already: no copies
+    for q in range(members.size if every else 0):
+        if members[q] != q:
+            every = False
+            break
+    if every:
+        sub_jac, sub_b1, sub_b2, sub_bias, sub_guess = jac, body1, body2, bias, guess
+        sub_f, sub_b = forces, rates
+    else:
+        sub_jac = np.ascontiguousarray(jac[members])
+        sub_b1, sub_b2, sub_bias = body1[members], body2[members], bias[members]
+        sub_f, sub_b = np.zeros(members.size), np.zeros(members.size)
+        sub_guess = guess[members]
     ok = np.zeros(offsets.size - 1, np.bool_)
     assembly.solve_small_islands(
-        sub_jac, sub_b1, sub_b2, bias[members], inv_mass, fixed, free_acc, offsets, sub_guess,
+        sub_jac, sub_b1, sub_b2, sub_bias, inv_mass, fixed, free_acc, offsets, sub_guess,
         tol, limit, sub_f, sub_b, ok,
     )  # fmt: skip
     if not np.all(ok):
         return False
     assembly.add_forces(sub_jac, sub_b1, sub_b2, inv_mass, sub_f, acc)
-    for q in range(members.size):
-        k = members[q]
-        forces[k], rates[k] = sub_f[q], sub_b[q]
-        guess[k] = sub_guess[q]
+    if not every:
+        for q in range(members.size):
+            k = members[q]
+            forces[k], rates[k] = sub_f[q], sub_b[q]
+            guess[k] = sub_guess[q]
     return True
 
 
@@ -234,7 +250,8 @@ def settle_frame(
     (ok, the kinetic energy the impacts and presses took out)."""
     touch, hold, resting_speed, separation, creep = limits
     scratch_gap, scratch_rate = np.empty(gap.size), np.empty(gap.size)
-    all_by_case(q, v, case, body1, body2, geometry, static2, gap, rate, jac, bias)
+    members = by_case(case)
+    all_by_case(q, v, members, body1, body2, geometry, static2, gap, rate, jac, bias)
     before = _kinetic(mass, fixed, v)
     classify_modes(gap, rate, touch, hold, resting_speed, separation, held, modes)
     approach = False
@@ -253,7 +270,7 @@ def settle_frame(
         all_by_case(
             q,
             v,
-            case,
+            members,
             body1,
             body2,
             geometry,
@@ -308,7 +325,7 @@ def settle_frame(
             if not _press(jac, body1, body2, inv_mass, fixed, modes, target, rate, limit, v,
                           impulses):  # fmt: skip
                 return False, 0.0
-            all_by_case(q, v, case, body1, body2, geometry, static2,
+            all_by_case(q, v, members, body1, body2, geometry, static2,
                         scratch_gap, scratch_rate, jac, bias)  # fmt: skip
         if not _forces(jac, body1, body2, bias, inv_mass, fixed, free_acc, modes, guess, tol,
                        limit, forces, rates, acc, grouping):  # fmt: skip

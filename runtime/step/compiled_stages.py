@@ -18,26 +18,34 @@ import numpy as np
 
 from runtime.compiled import njit
 from runtime.solve import assembly
-from runtime.solve.kernel_set import rows_by_case
+from runtime.solve.kernel_set import by_case, rows_by_case
 
 METHOD_ID = {"euler": 0, "midpoint": 1, "rk4": 2}
 
 
 @njit
+def _finite(a):
+    """Whether every entry of ``a`` (1-d or 2-d, C-contiguous) is finite (no array made)."""
+    for x in a.ravel():
+        if not np.isfinite(x):
+            return False
+    return True
+
+
+@njit
 def accelerations(
-    q, v, case, body1, body2, geometry, static2, offsets, guess,
-    inv_mass, fixed, free_acc, tol, limit, acc, forces, rates,
+    q, v, members, body1, body2, geometry, static2, offsets, guess,
+    inv_mass, fixed, free_acc, tol, limit, acc, forces, rates, jac, bias,
 ):  # fmt: skip
-    """acc (n, 3) under the forces of the resting contacts (grouped by island, ``offsets``),
-    solved with the guess; False if an island needs the general path."""
-    m = case.size
+    """acc (n, 3) under the forces of the resting contacts (grouped by island, ``offsets``;
+    ``members``: kernel_set.by_case), solved with the guess; False if an island needs the
+    general path. ``forces``, ``rates``, ``jac``, ``bias``: scratch, written."""
+    m = body1.size
     acc[:, :] = free_acc
     if m == 0:
         return True
-    jac = np.zeros((m, 6))
-    bias = np.zeros(m)
-    rows_by_case(q, v, case, body1, body2, geometry, static2, jac, bias)
-    if not (np.all(np.isfinite(jac)) and np.all(np.isfinite(bias))):
+    rows_by_case(q, v, members, body1, body2, geometry, static2, jac, bias)
+    if not (_finite(jac) and _finite(bias)):
         return False
     ok = np.zeros(offsets.size - 1, np.bool_)
     assembly.solve_small_islands(
@@ -51,38 +59,49 @@ def accelerations(
 
 
 @njit
+def _stage(q0, v0, dq, dv, h, q, v):
+    """(q, v) = (q0 + h dq, v0 + h dv), in place: array expressions would make a temporary of
+    every operation (with 10,000 copies, a quarter of the step went into making them)."""
+    for i in range(q0.shape[0]):
+        for c in range(3):
+            q[i, c] = q0[i, c] + h * dq[i, c]
+            v[i, c] = v0[i, c] + h * dv[i, c]
+
+
+@njit
 def step(
     method, q0, v0, h, a0, case, body1, body2, geometry, static2, offsets,
     guess, inv_mass, fixed, free_acc, tol, limit, q_out, v_out,
 ):  # fmt: skip
     """(q_out, v_out) = one step of length h from (q0, v0) with first-stage accelerations a0;
     False if a stage needs the general path."""
-    m = case.size
-    forces, rates = np.empty(m), np.empty(m)
-    args = (case, body1, body2, geometry, static2, offsets, guess, inv_mass, fixed, free_acc,
-            tol, limit)  # fmt: skip
     if method == 0:
-        q_out[:, :] = q0 + h * v0
-        v_out[:, :] = v0 + h * a0
+        _stage(q0, v0, v0, a0, h, q_out, v_out)
         return True
+    m = case.size
+    scratch = (np.empty(m), np.empty(m), np.empty((m, 6)), np.empty(m))
+    args = (by_case(case), body1, body2, geometry, static2, offsets, guess, inv_mass, fixed,
+            free_acc, tol, limit)  # fmt: skip
     half = 0.5 * h
-    a2 = np.empty_like(a0)
-    v2 = v0 + half * a0
-    if not accelerations(q0 + half * v0, v2, *args, a2, forces, rates):
+    q = np.empty_like(q0)
+    v2, a2 = np.empty_like(v0), np.empty_like(a0)
+    _stage(q0, v0, v0, a0, half, q, v2)
+    if not accelerations(q, v2, *args, a2, *scratch):
         return False
     if method == 1:
-        q_out[:, :] = q0 + h * v2
-        v_out[:, :] = v0 + h * a2
+        _stage(q0, v0, v2, a2, h, q_out, v_out)
         return True
-    a3 = np.empty_like(a0)
-    v3 = v0 + half * a2
-    if not accelerations(q0 + half * v2, v3, *args, a3, forces, rates):
+    v3, a3 = np.empty_like(v0), np.empty_like(a0)
+    _stage(q0, v0, v2, a2, half, q, v3)
+    if not accelerations(q, v3, *args, a3, *scratch):
         return False
-    a4 = np.empty_like(a0)
-    v4 = v0 + h * a3
-    if not accelerations(q0 + h * v3, v4, *args, a4, forces, rates):
+    v4, a4 = np.empty_like(v0), np.empty_like(a0)
+    _stage(q0, v0, v3, a3, h, q, v4)
+    if not accelerations(q, v4, *args, a4, *scratch):
         return False
     sixth = h / 6.0
-    q_out[:, :] = q0 + sixth * (v0 + 2.0 * (v2 + v3) + v4)
-    v_out[:, :] = v0 + sixth * (a0 + 2.0 * (a2 + a3) + a4)
+    for i in range(q0.shape[0]):
+        for c in range(3):
+            q_out[i, c] = q0[i, c] + sixth * (v0[i, c] + 2.0 * (v2[i, c] + v3[i, c]) + v4[i, c])
+            v_out[i, c] = v0[i, c] + sixth * (a0[i, c] + 2.0 * (a2[i, c] + a3[i, c]) + a4[i, c])
     return True

@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from runtime.collide.contact_keys import Guesses, key_set, objects
 from runtime.model.scene import Scene
 from runtime.solve.forces import Stabilisation
 from runtime.step.stepper import Stepper
@@ -122,7 +123,7 @@ class Copies:
 
 def snapshot(stepper: Stepper) -> tuple:
     """The stepper's memory between steps (restored by :func:`carry` when a step is redone)."""
-    memory = dict(stepper.forces.memory)
+    memory = stepper.forces.memory.copy()
     return stepper.held, stepper.recent, memory, stepper.evaluations, stepper.collision.finder.keys
 
 
@@ -143,14 +144,20 @@ def carry(memory: tuple, old: Layout, new: Layout, stepper: Stepper, own: int) -
     held, recent, guesses, evaluations, old_keys = memory
     new_keys = stepper.collision.finder.keys
 
-    def keys(items):
-        for key in items:
+    def keys(items: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(which of ``items`` have both bodies kept, their new keys)."""
+        kept, out = [], []
+        for key in items.tolist():
             b1, b2, *features = old_keys.parts(key)
             i, j = int(moved[b1]), int(moved[b2])
-            if i >= 0 and j >= 0:
-                yield key, new_keys.make((i, j, *features))
+            kept.append(i >= 0 and j >= 0)
+            if kept[-1]:
+                out.append(new_keys.make((i, j, *features)))
+        made = np.array(out, np.int64) if new_keys.packed else objects(out)
+        return np.array(kept, bool), made
 
-    stepper.held = {new_key for _, new_key in keys(held)}
-    stepper.recent = frozenset(new_key for _, new_key in keys(recent))
-    stepper.forces.memory = {new_key: guesses[key] for key, new_key in keys(guesses)}
+    stepper.held = key_set(keys(held)[1])
+    stepper.recent = key_set(keys(recent)[1])
+    kept, made = keys(guesses.keys)
+    stepper.forces.memory = Guesses(made, guesses.clamped[kept])
     stepper.evaluations = evaluations

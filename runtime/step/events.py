@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from runtime import settings
+from runtime.collide.contact_keys import key_set, member
 from runtime.compiled import njit
 from runtime.step import pair_scan
 from runtime.step.classify import LIFTING, SEPARATING
@@ -345,7 +346,7 @@ class EventSearch:
             if dip is not None:
                 found.append(dip)
         found.sort(key=lambda b: b.guess)
-        resting = {frame.keys[k] for k in frame.resting}
+        resting = key_set(frame.keys[frame.resting])
         best: dict[int, float] = {}
         unconfirmed: dict[int, set] = {}
         for bracket in found:
@@ -383,8 +384,8 @@ class EventSearch:
             i, j = int(contacts.body1[k]), int(contacts.body2[k])
             if self.switches[i] or self.switches[j]:
                 unconfirmed.setdefault(int(island[k]), set()).add(_pair(contacts, k))
-        keys = set(self.collider.key_list(contacts))
-        known = set(frame.keys)
+        keys = set(self.collider.keys(contacts).tolist()) if unconfirmed else set()
+        known = set(frame.keys.tolist()) if unconfirmed else set()
         counts = {_pair(contacts, k): int(sampled_counts[k]) for k in np.flatnonzero(sampled)}
         for g, pairs in unconfirmed.items():
             later = self._new_feature(pairs, keys, trajectory(g), best.get(g, h), known, counts)
@@ -441,11 +442,11 @@ class EventSearch:
 
         return gap
 
-    def _touches(self, contacts, k: int, poses: np.ndarray, resting: set) -> bool:
+    def _touches(self, contacts, k: int, poses: np.ndarray, resting: np.ndarray) -> bool:
         """Whether the pair of contact k touches at ``poses`` at a feature not resting before."""
         i, j = _pair(contacts, k)
         found = self.collider.pair(i, j, poses, self.touch)
-        return any(key not in resting for key in self.collider.key_list(found))
+        return not np.all(member(self.collider.keys(found), resting))
 
     def _new_feature(
         self, pairs: set, watched_keys: set, traj, until: float, known: set, samples: dict
@@ -464,7 +465,7 @@ class EventSearch:
         for i, j in sorted(pairs):
             found = self.collider.pair(i, j, poses, 0.0)
             located, unexplained = False, False
-            for k, key in enumerate(self.collider.key_list(found)):
+            for k, key in enumerate(self.collider.keys(found).tolist()):
                 if key in watched_keys or found.gap[k] >= -self.touch:
                     continue
                 gap = self._gap_function(found, k, traj)

@@ -52,7 +52,7 @@ def first_touch(
 
     def depth(t: float) -> float:
         found = search.collider.pair(i, j, traj.at(t)[0], touch)
-        keys = search.collider.key_list(found)
+        keys = search.collider.keys(found).tolist()
         gaps = [g for key, g in zip(keys, found.gap.tolist(), strict=True) if key not in known]
         return min(gaps, default=math.inf)
 
@@ -98,7 +98,7 @@ def unwatched_meetings(
     keep = usable[first] & usable[second] & (fast[first] | fast[second])
     first, second = first[keep], second[keep]
     counts = samples(search, first, second, q0, q1)
-    known = set(frame.keys)
+    known = set(frame.keys.tolist())
     out: dict[int, float] = {}
     for i, j, count in zip(first.tolist(), second.tolist(), counts.tolist(), strict=True):
         if count == 0:

@@ -34,12 +34,13 @@ import numpy as np
 
 from runtime import settings
 from runtime.collide import sweep
+from runtime.collide.contact_keys import find, key_set, member
 from runtime.collide.features import features
 from runtime.compiled import Bound
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution, Stabilisation
 from runtime.solve.islands import body_islands, contact_islands
 from runtime.solve.rows import RowEvaluator, Rows
-from runtime.step.classify import LIFTING, RESTING, Bodies, Frame, Limits, make_frame, member
+from runtime.step.classify import LIFTING, RESTING, Bodies, Frame, Limits, make_frame
 from runtime.step.collision import Collision
 from runtime.step.events import EventSearch
 from runtime.step.friction_stage import friction_stage
@@ -123,8 +124,10 @@ class Stepper:
         self.events = EventSearch(
             self.collision, self.evaluator, self.touch, self.radii, half, switches
         )
-        self.held: set = set()  # keys of the contacts resting in the last frame
-        self.recent: frozenset = frozenset()  # ... at the end of the last step
+        self.held = key_set(np.zeros(0, np.int64))  # keys of the contacts resting in the last frame
+        self.recent = (
+            self.held
+        )  # ... at the end of the last step (both: runtime.collide.contact_keys)
         self._limits: dict[float, Limits] = {}
         self.evaluations = 0  # right-hand-side evaluations (integrator stages)
         self.ovals = self.collision.finder.has_ovals
@@ -167,7 +170,7 @@ class Stepper:
         if margin is None:
             margin = sweep.margins(v, h, self.radii, self.moving, self.gravity)
         contacts = self.collision.swept(q, margin, active)
-        keys = self.collision.key_list(contacts)
+        keys = self.collision.keys(contacts)
         done = self._compiled_frame(contacts, keys, q, v, margin, limits) if self.compiled else None
         if done is None:
             impacts = None if self.links is None else self.links.frame_impacts(q, v)
@@ -190,8 +193,9 @@ class Stepper:
         m = len(contacts)
         if m == 0:
             return None
-        held, recent = member(keys, self.held), member(keys, self.recent)
-        guess = np.array([self.forces.memory.get(k, False) for k in keys], dtype=bool)
+        held = member(keys, self.held)
+        recent = held if self.recent is self.held else member(keys, self.recent)
+        guess = self.forces.memory.get(keys)
         gap, rate, bias = np.empty(m), np.empty(m), np.empty(m)
         jac = np.empty((m, 6))
         modes = np.empty(m, np.int64)
@@ -221,24 +225,26 @@ class Stepper:
         rest = frame.resting  # ascending; the problem's rows are the same contacts by island
         count, islands = int(counts[0]), int(counts[1])
         order = order[:count]
+        # every contact resting, in island order already (scattered copies): no copy to take
+        same = count == m and bool(np.all(order[1:] > order[:-1]))
         problem = ForceProblem(
-            contacts.take(order), np.searchsorted(rest, order), offsets[:islands].copy(),
-            guess[order], labels[:count].copy(), [keys[k] for k in order],
+            contacts if same else contacts.take(order), np.searchsorted(rest, order),
+            offsets[:islands].copy(), guess[order], labels[:count].copy(), keys[order],
         )  # fmt: skip
-        self.forces.memory.update(zip(problem.keys, problem.guess.tolist(), strict=True))
+        self.forces.memory.update(problem.keys, problem.guess)
         return frame, RestingSolution(problem, acc, forces[rest], rates[rest])
 
     def _hold(self, frame: Frame, active) -> None:
         """Remember the frame's resting (and lifting) contacts, for the hysteresis of the next
         frame; those of bodies outside ``active`` stay as they were."""
-        held = np.flatnonzero((frame.modes == RESTING) | (frame.modes == LIFTING))
-        resting = {frame.keys[k] for k in held}
+        resting = key_set(frame.keys[(frame.modes == RESTING) | (frame.modes == LIFTING)])
         if active is None:
             self.held = resting
             return
         mine = active | self.fixed
-        bodies = self.collision.finder.keys.bodies
-        self.held = {k for k in self.held if not all(mine[b] for b in bodies(k))} | resting
+        body1, body2 = self.collision.finder.keys.bodies_of(self.held)
+        others = self.held[~(mine[body1] & mine[body2])]
+        self.held = key_set(np.concatenate([others, resting]))
 
     def solve(
         self, q: np.ndarray, frame: Frame, which: np.ndarray | None = None
@@ -256,7 +262,7 @@ class Stepper:
             contacts.body2,
             self.fixed,
         )
-        problem = self.forces.problem(contacts, labels, self.collision.key_list(contacts))
+        problem = self.forces.problem(contacts, labels, self.collision.keys(contacts))
         rows = self.evaluator.rows(problem.contacts, q, v, self.with_gaps)
         solution = self._solve(problem, rows, q, v)
         self.forces.remember(problem)
@@ -322,9 +328,8 @@ class Stepper:
         self, q: np.ndarray, v: np.ndarray, h: float
     ) -> tuple[np.ndarray, np.ndarray, StepReport]:
         """One step of length h from (q, v): the new state and what the step did."""
-        self.recent = frozenset(self.held)
+        self.recent = held = self.held  # never changed in place: replaced
         limits = self.limits(h)
-        held = set(self.held)
         report = StepReport()
         try:
             q1, v1 = self._advance(q, v, h, limits, report, split=True)
@@ -405,15 +410,13 @@ class Stepper:
         are found again with margins twice the distances moved; the resting set stays."""
         wider = np.maximum(frame.margin, 2.0 * sweep.displacement(q, end_q, self.radii))
         contacts = self.collision.swept(q, wider, active)
-        keys = self.collision.key_list(contacts)
-        index = {key: k for k, key in enumerate(frame.keys)}
+        keys = self.collision.keys(contacts)
         rows = self.evaluator.rows(contacts, q, frame.velocities)
+        at = find(keys, frame.keys, np.argsort(frame.keys))
+        known = at >= 0
         modes = np.zeros(len(contacts), dtype=int)
         impulses = np.zeros(len(contacts))
-        for k, key in enumerate(keys):
-            if key in index:
-                modes[k] = frame.modes[index[key]]
-                impulses[k] = frame.impulses[index[key]]
+        modes[known], impulses[known] = frame.modes[at[known]], frame.impulses[at[known]]
         widened = Frame(
             contacts, keys, rows, modes, frame.velocities, wider, impulses, frame.impact_loss
         )
@@ -444,7 +447,7 @@ class Stepper:
         the warm-start guesses) is left as it was, so asking for the contacts between steps
         never changes the run (it did: a 200-disc pile failed at t = 0.622 s only when its
         contacts were looked at every 10 steps)."""
-        memory = self.held, self.recent, dict(self.forces.memory)
+        memory = self.held, self.recent, self.forces.memory.copy()
         try:
             return self.settled_frame(q, v, 0.0, self.limits(h))
         finally:

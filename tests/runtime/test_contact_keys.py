@@ -39,7 +39,7 @@ def test_keys_are_equal_exactly_when_the_tuples_are_and_unpack_to_them(n, width)
     rows = np.concatenate([rows, rows[:100]])  # some keys twice
     rows[-1] = [n - 1, n - 1, 2, width - 1, 2, width - 1]  # the largest key
     coder = ContactKeys(n, width)
-    keys = coder.of_contacts(contacts_of(rows))
+    keys = coder.of_contacts(contacts_of(rows)).tolist()
     tuples = list(map(tuple, rows.tolist()))
     assert len(set(keys)) == len(set(tuples))
     assert [coder.parts(k) for k in keys] == tuples
@@ -52,7 +52,7 @@ def test_a_scene_too_large_for_63_bits_keeps_tuples():
     coder = ContactKeys(10**7, 10**4)
     assert not coder.packed
     rows = np.array([[5, 9_999_999, 1, 9_999, 0, 3]])
-    assert coder.of_contacts(contacts_of(rows)) == [tuple(rows[0].tolist())]
+    assert coder.of_contacts(contacts_of(rows)).tolist() == [tuple(rows[0].tolist())]
     assert coder.parts((5, 9_999_999, 1, 9_999, 0, 3)) == (5, 9_999_999, 1, 9_999, 0, 3)
     assert coder.bodies((5, 9_999_999, 1, 9_999, 0, 3)) == (5, 9_999_999)
 
@@ -69,5 +69,59 @@ def test_a_scenes_keys_cover_its_features():
     coder = scene.contact_finder().keys
     contacts = scene.contacts()
     assert len(contacts) and coder.packed
-    keys = coder.of_contacts(contacts)
+    keys = coder.of_contacts(contacts).tolist()
     assert [coder.parts(k) for k in keys] == list(map(tuple, contacts.keys().tolist()))
+
+
+def _as_keys(items, packed: bool) -> np.ndarray:
+    from runtime.collide.contact_keys import objects
+
+    return np.array(items, np.int64) if packed else objects(items)
+
+
+@pytest.mark.parametrize("packed", [True, False])
+def test_key_sets_and_guesses_behave_as_python_sets_and_dicts(packed):
+    """The sorted-array sets (key_set, member, find) and the warm-start memory (Guesses) give
+    what a Python set and dict give, over updates that add, replace and repeat keys -- packed
+    int keys and the tuples of scenes too large for them alike."""
+    from runtime.collide.contact_keys import Guesses, find, key_set, member
+
+    rng = np.random.default_rng(7 if packed else 8)
+
+    def key(value: int):
+        return value if packed else (value % 7, value // 7, 0, value % 3, 1, 2)
+
+    memory, oracle = Guesses(), {}
+    for _ in range(60):
+        values = rng.choice(200, size=rng.integers(0, 40), replace=False).tolist()
+        keys = _as_keys([key(v) for v in values], packed)
+        clamped = rng.random(len(values)) < 0.5
+        asked = _as_keys([key(v) for v in rng.integers(0, 220, 50).tolist()], packed)
+        expected = [oracle.get(k, False) for k in asked.tolist()]
+        assert memory.get(asked).tolist() == expected
+        memory.update(keys, clamped)
+        oracle.update(zip(keys.tolist(), clamped.tolist(), strict=True))
+        assert dict(memory.items()) == oracle and len(memory) == len(oracle)
+        held = key_set(np.concatenate([keys, keys[: len(keys) // 2]]))
+        assert held.tolist() == sorted(set(keys.tolist()))
+        assert member(asked, held).tolist() == [k in set(keys.tolist()) for k in asked.tolist()]
+        at = find(asked, keys, np.argsort(keys))
+        positions = {k: p for p, k in enumerate(keys.tolist())}
+        assert at.tolist() == [positions.get(k, -1) for k in asked.tolist()]
+    copy = memory.copy()
+    memory.update(_as_keys([key(0)], packed), np.array([not oracle.get(key(0), False)]))
+    assert dict(copy.items()) == oracle  # a copy is not changed by later updates
+
+
+def test_bodies_of_keys_match_their_parts():
+    rng = np.random.default_rng(3)
+    for n, width in [(50, 6), (10**7, 10**4)]:
+        coder = ContactKeys(n, width)
+        rows = np.column_stack([
+            rng.integers(0, n, 300), rng.integers(0, n, 300),
+            rng.integers(0, 3, 300), rng.integers(0, width, 300),
+            rng.integers(0, 3, 300), rng.integers(0, width, 300),
+        ])  # fmt: skip
+        body1, body2 = coder.bodies_of(coder.of_contacts(contacts_of(rows)))
+        np.testing.assert_array_equal(body1, rows[:, 0])
+        np.testing.assert_array_equal(body2, rows[:, 1])

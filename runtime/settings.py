@@ -191,9 +191,6 @@ DIP_LEVELS = 8  # real-gap checks of one such interval, each narrowing it toward
 ANGLE_WRAP = 1e3  # rad: angles beyond this are wrapped to (-pi, pi] between steps, so the
 # integrator keeps 1e-13 rad of resolution however long a body spins
 
-ENSEMBLE_GC_STEPS = 100  # steps: an ensemble collects Python's young garbage generations this
-# often, its automatic collection being off (full collections of 10,000 copies' per-contact
-# objects took half of each step; runtime.step.ensemble)
 
 # -- joints, springs, damping, mutual gravity (issue #16) ---------------------------------------
 

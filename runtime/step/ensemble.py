@@ -24,8 +24,6 @@ dropped, and the step is taken again from the state before it by the rest.
 
 from __future__ import annotations
 
-import contextlib
-import gc
 import math
 import time
 from collections.abc import Callable, Mapping
@@ -131,35 +129,16 @@ def simulate_ensemble(
     driver = _Driver(copies, method, stabilisation, speed, guards or Guards())
     recorder = _Recorder(copies, lengths, record_every)
     start = time.perf_counter()
-    with _young_collections_only():
-        driver.start(recorder)
-        for k, h in enumerate(lengths):
-            if not len(driver.layout.members):
-                break
-            driver.step(k, h, k % record_every == 0)
-            if k % settings.ENSEMBLE_GC_STEPS == 0:
-                gc.collect(1)
-            if progress is not None:
-                progress(min(1.0, (k + 1) / steps))
-        driver.finish(lengths[-1] if lengths else 0.0)
+    driver.start(recorder)
+    for k, h in enumerate(lengths):
+        if not len(driver.layout.members):
+            break
+        driver.step(k, h, k % record_every == 0)
+        if progress is not None:
+            progress(min(1.0, (k + 1) / steps))
+    driver.finish(lengths[-1] if lengths else 0.0)
     wall = time.perf_counter() - start
     return recorder.ensemble(scene, method, dt, driver, wall)
-
-
-@contextlib.contextmanager
-def _young_collections_only():
-    """Python's automatic garbage collection off while the copies are stepped (the caller
-    collects the young generations every settings.ENSEMBLE_GC_STEPS steps, so cyclic garbage
-    still goes). Why: the step makes Python objects per contact (key tuples, sets, dicts) that
-    live a step; with 10,000 copies they reach the oldest generation and set off full
-    collections that walk every live object, about half of a step's time (bench/ensemble.py)."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
 
 
 class _Recorder:

@@ -19,7 +19,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from runtime.compiled import CHECK_CALLS
+from runtime.compiled import CHECK_CALLS, njit
 
 KINDS = 3  # VERTEX, EDGE, END (runtime.collide.contact_set)
 
@@ -49,10 +49,7 @@ class ContactKeys:
         ):  # fmt: skip
             raise RuntimeError(f"contact features {feature.tolist()} outside the keys' range "
                                f"(indices below {self.width}): a bug of the contact finder")  # fmt: skip
-        one = feature[:, 0] * self.width + feature[:, 1]
-        two = feature[:, 2] * self.width + feature[:, 3]
-        pair = contacts.body1.astype(np.int64) * self.n + contacts.body2
-        return (pair * self.radix + one) * self.radix + two
+        return _packed(contacts.body1, contacts.body2, feature, self.n, self.width)
 
     def bodies_of(self, keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(body 1, body 2) of each of ``keys``, as arrays."""
@@ -98,6 +95,8 @@ def objects(items) -> np.ndarray:
 def key_set(keys: np.ndarray) -> np.ndarray:
     """The set of ``keys``, as the sorted array of its distinct members (np.unique, but a
     plain sort: its hash table costs more than the sort for keys that are mostly distinct)."""
+    if keys.dtype == np.int64:
+        return _distinct(keys)
     ordered = np.sort(keys)
     if len(ordered) > 1:
         ordered = ordered[np.r_[True, ordered[1:] != ordered[:-1]]]
@@ -107,6 +106,8 @@ def key_set(keys: np.ndarray) -> np.ndarray:
 def find(keys: np.ndarray, table: np.ndarray, sorter: np.ndarray | None = None) -> np.ndarray:
     """(m,) where each of ``keys`` is in ``table`` (sorted, or sorted by ``sorter``; distinct
     members), -1 where it is not."""
+    if sorter is None and keys.dtype == np.int64 and table.dtype == np.int64:
+        return _find_sorted(keys, table)  # a compiled loop: for a few keys, NumPy's calls cost more
     if len(table) == 0 or len(keys) == 0:
         return np.full(len(keys), -1, np.int64)
     at = np.minimum(np.searchsorted(table, keys, sorter=sorter), len(table) - 1)
@@ -118,6 +119,79 @@ def find(keys: np.ndarray, table: np.ndarray, sorter: np.ndarray | None = None) 
 def member(keys: np.ndarray, keyset: np.ndarray) -> np.ndarray:
     """Whether each of ``keys`` is in ``keyset`` (a :func:`key_set`), as a bool array."""
     return find(keys, keyset) >= 0
+
+
+@njit
+def _packed(body1, body2, feature, n, width):
+    """The packed key of each contact (one compiled loop: NumPy's five array operations cost
+    more for the few contacts of a small scene)."""
+    radix = KINDS * width
+    out = np.empty(body1.size, np.int64)
+    for k in range(body1.size):
+        one = feature[k, 0] * width + feature[k, 1]
+        two = feature[k, 2] * width + feature[k, 3]
+        out[k] = ((body1[k] * n + body2[k]) * radix + one) * radix + two
+    return out
+
+
+@njit
+def _distinct(keys):
+    """key_set of int64 keys, compiled (a few keys: NumPy's calls cost more than the sort)."""
+    ordered = np.sort(keys)
+    size = min(ordered.size, 1)
+    for k in range(1, ordered.size):
+        if ordered[k] != ordered[size - 1]:
+            ordered[size] = ordered[k]
+            size += 1
+    return ordered[:size].copy()
+
+
+@njit
+def _find_sorted(keys, table):
+    """find for int64 keys in a sorted table: a binary search per key."""
+    out = np.empty(keys.size, np.int64)
+    n = table.size
+    for k in range(keys.size):
+        key, lo, hi = keys[k], 0, n
+        while lo < hi:
+            mid = (lo + hi) >> 1
+            if table[mid] < key:
+                lo = mid + 1
+            else:
+                hi = mid
+        out[k] = lo if lo < n and table[lo] == key else -1
+    return out
+
+
+@njit
+def _merged(table, clamped, keys, values):
+    """(table, clamped) with ``values`` for ``keys`` (int64, distinct): known keys changed in
+    place, new ones merged in order (new arrays only then)."""
+    at = _find_sorted(keys, table)
+    new = 0
+    for k in range(keys.size):
+        if at[k] >= 0:
+            clamped[at[k]] = values[k]
+        else:
+            new += 1
+    if new == 0:
+        return table, clamped
+    order = np.argsort(keys)
+    out_keys, out_values = (
+        np.empty(table.size + new, np.int64),
+        np.empty(table.size + new, np.bool_),
+    )
+    i = o = 0
+    for k in order:
+        if at[k] >= 0:
+            continue
+        while i < table.size and table[i] < keys[k]:
+            out_keys[o], out_values[o] = table[i], clamped[i]
+            i, o = i + 1, o + 1
+        out_keys[o], out_values[o] = keys[k], values[k]
+        o += 1
+    out_keys[o:], out_values[o:] = table[i:], clamped[i:]
+    return out_keys, out_values
 
 
 class Guesses:
@@ -146,10 +220,14 @@ class Guesses:
 
     def update(self, keys: np.ndarray, clamped: np.ndarray) -> None:
         """Remember ``clamped`` for ``keys`` (distinct), replacing what was known of them."""
-        if len(keys) == 0:
+        clamped = np.asarray(clamped, bool)
+        if keys.dtype == np.int64 and self.keys.dtype == np.int64:
+            self.keys, self.clamped = _merged(self.keys, self.clamped, keys, clamped)
+            return
+        if len(keys) == 0:  # tuples (a scene too large for packed keys): the same, by NumPy
             return
         order = np.argsort(keys, kind="stable")
-        keys, clamped = keys[order], np.asarray(clamped, bool)[order]
+        keys, clamped = keys[order], clamped[order]
         at = find(keys, self.keys)
         known = at >= 0
         self.clamped[at[known]] = clamped[known]

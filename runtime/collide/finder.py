@@ -278,7 +278,7 @@ class ContactFinder:
             raise ValueError(f"margins must be an (n,) array of numbers, got {margins!r}") from None
         if m.shape != (self.n,):
             raise ValueError(f"margins must have shape ({self.n},), got {m.shape}")
-        if not np.all(np.isfinite(m) & (m >= 0)):
+        if m.size and not (m.min() >= 0.0 and math.isfinite(m.max())):  # NaN fails the first
             bad = int(np.argwhere(~(np.isfinite(m) & (m >= 0)))[0][0])
             raise ValueError(f"margins must be finite and >= 0; margins[{bad}] = {float(m[bad])!r}")
         return m

@@ -33,4 +33,4 @@ def displacement(start: np.ndarray, end: np.ndarray, radii: np.ndarray) -> np.nd
 
 
 def outran(start: np.ndarray, end: np.ndarray, radii: np.ndarray, margin: np.ndarray) -> bool:
-    return bool(np.any(displacement(start, end, radii) > margin))
+    return bool((displacement(start, end, radii) > margin).any())

@@ -70,7 +70,7 @@ def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, int] | None
     """(depth, depth / the smaller bounding radius, contact index) of the frame's deepest
     overlap relative to body size, or None if nothing overlaps."""
     depth = -np.asarray(frame.rows.gap, dtype=float)
-    if not np.any(depth > 0.0):
+    if not (depth > 0.0).any():
         return None
     size = np.minimum(radii[frame.rows.body1], radii[frame.rows.body2])
     k = int(np.argmax(depth / size))

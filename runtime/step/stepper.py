@@ -226,7 +226,7 @@ class Stepper:
         count, islands = int(counts[0]), int(counts[1])
         order = order[:count]
         # every contact resting, in island order already (scattered copies): no copy to take
-        same = count == m and bool(np.all(order[1:] > order[:-1]))
+        same = count == m and (m == 1 or bool((order[1:] > order[:-1]).all()))
         problem = ForceProblem(
             contacts if same else contacts.take(order), np.searchsorted(rest, order),
             offsets[:islands].copy(), guess[order], labels[:count].copy(), keys[order],

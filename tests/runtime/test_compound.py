@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from contact_reference import check_contacts, rows
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import runtime
@@ -307,7 +307,10 @@ def test_disc_in_a_moving_frame_against_the_distances_to_its_inner_sides(x, y, t
     frame_pose = np.array([X, 1.0, th])
     p = world(frame_pose, (x, y))
     found = find([FRAME, shapes.disc(r)], [frame_pose, [*p, 0.0]], [False, False], tol)
-    want = sorted(d - r for d in (x + 0.5, 0.5 - x, y + 0.3, 0.3 - y) if d - r <= tol)
+    gaps = [d - r for d in (x + 0.5, 0.5 - x, y + 0.3, 0.3 - y)]
+    # a side at the tolerance itself is in or out by a rounding (y = 0.15 drew one)
+    assume(all(abs(g - tol) > 1e-12 for g in gaps))
+    want = sorted(g for g in gaps if g <= tol)
     assert sorted(c.gap for c in found) == pytest.approx(want, abs=1e-13)
     assert all(c.case == "circle_edge" and (c.body1, c.body2) == (1, 0) for c in found)
     assert len({c.feature[1] for c in found}) == len(found)

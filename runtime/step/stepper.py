@@ -124,10 +124,9 @@ class Stepper:
         self.events = EventSearch(
             self.collision, self.evaluator, self.touch, self.radii, half, switches
         )
-        self.held = key_set(np.zeros(0, np.int64))  # keys of the contacts resting in the last frame
-        self.recent = (
-            self.held
-        )  # ... at the end of the last step (both: runtime.collide.contact_keys)
+        # the keys (runtime.collide.contact_keys) of the contacts resting in the last frame,
+        # and at the end of the last step
+        self.held = self.recent = key_set(np.zeros(0, np.int64))
         self._limits: dict[float, Limits] = {}
         self.evaluations = 0  # right-hand-side evaluations (integrator stages)
         self.ovals = self.collision.finder.has_ovals

@@ -32,14 +32,20 @@ def _self_product(jac, body, side, inv_mass, fixed, k):
 
 
 @njit
+def _diagonal(jac, body1, body2, inv_mass, fixed, k):
+    """A_kk: contact k's rows times its bodies' inverse masses times the rows."""
+    return _self_product(jac, body1[k], 0, inv_mass, fixed, k) + _self_product(
+        jac, body2[k], 3, inv_mass, fixed, k
+    )
+
+
+@njit
 def island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A):
     """A[:K, :K] for the contacts start..stop-1 (K = stop - start): for each moving body, the
     products of the rows of the contacts that touch it (O(sum of degree^2), not O(K^2))."""
     K = stop - start
     if K == 1:  # one contact: no sort (and no arrays to allocate); the same sums
-        A[0, 0] = _self_product(jac, body1[start], 0, inv_mass, fixed, start) + _self_product(
-            jac, body2[start], 3, inv_mass, fixed, start
-        )
+        A[0, 0] = _diagonal(jac, body1, body2, inv_mass, fixed, start)
         return
     A[:K, :K] = 0.0
     bodies = np.empty(2 * K, np.int64)
@@ -287,15 +293,15 @@ def solve_small_islands(
         if stop - start > limit:
             ok[g] = False
             continue
-        if stop - start == 1:  # most islands of a scattered scene: on scalars, no views
-            diagonal = _self_product(jac, body1[start], 0, inv_mass, fixed, start)
-            diagonal += _self_product(jac, body2[start], 3, inv_mass, fixed, start)
+        K = stop - start
+        if K == 1:  # most islands of a scattered scene: on scalars, no views
+            diagonal = _diagonal(jac, body1, body2, inv_mass, fixed, start)
             forces[start], ok[g] = _solve_one(diagonal, rates[start], guess[start], tol)
             if ok[g]:
                 continue
         island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A)
-        K, b, f = stop - start, rates[start:stop], forces[start:stop]
-        if solve_with_guess(A, b, K, guess[start:stop], tol, f):
+        b, f = rates[start:stop], forces[start:stop]
+        if K > 1 and solve_with_guess(A, b, K, guess[start:stop], tol, f):  # (one row: tried)
             ok[g] = True
         else:  # the clamped set changed: the dense solver finds the new one
             ok[g] = dense_lcp(

@@ -346,7 +346,7 @@ class EventSearch:
             if dip is not None:
                 found.append(dip)
         found.sort(key=lambda b: b.guess)
-        resting = key_set(frame.keys[frame.resting])
+        resting = key_set(frame.keys[frame.resting]) if found else None  # for _touches
         best: dict[int, float] = {}
         unconfirmed: dict[int, set] = {}
         for bracket in found:

@@ -118,7 +118,24 @@ def find(keys: np.ndarray, table: np.ndarray, sorter: np.ndarray | None = None) 
 
 def member(keys: np.ndarray, keyset: np.ndarray) -> np.ndarray:
     """Whether each of ``keys`` is in ``keyset`` (a :func:`key_set`), as a bool array."""
+    if keys.dtype == np.int64 and keyset.dtype == np.int64:
+        return _looked_up(keys, keyset, _FOUND)
     return find(keys, keyset) >= 0
+
+
+_FOUND = np.ones(0, np.bool_)  # _looked_up's values for membership: none (True when found)
+
+
+@njit
+def _looked_up(keys, table, values):
+    """Per key: values[where it is in the sorted ``table``] (True if ``values`` is empty),
+    False where it is not there -- member and Guesses.get in one compiled loop."""
+    at = _find_sorted(keys, table)
+    out = np.zeros(keys.size, np.bool_)
+    for k in range(keys.size):
+        if at[k] >= 0:
+            out[k] = values[at[k]] if values.size else True
+    return out
 
 
 @njit
@@ -212,6 +229,8 @@ class Guesses:
 
     def get(self, keys: np.ndarray) -> np.ndarray:
         """(m,) the guess of each of ``keys``: False for a contact never solved."""
+        if keys.dtype == np.int64 and self.keys.dtype == np.int64 and len(self.keys):
+            return _looked_up(keys, self.keys, self.clamped)
         at = find(keys, self.keys)
         known = at >= 0
         out = np.zeros(len(keys), bool)

@@ -13,7 +13,11 @@ large contact force), :func:`outran` says so and the search is repeated with wid
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+
+from runtime.compiled import njit
 
 
 def margins(
@@ -21,8 +25,18 @@ def margins(
 ) -> np.ndarray:
     """(n,) bound on the distance any point of each body moves in a step of length h
     (``moving``: 1.0 for moving bodies, 0.0 for fixed ones; ``gravity``: |g|)."""
-    speed = np.hypot(velocities[:, 0], velocities[:, 1]) + np.abs(velocities[:, 2]) * radii
-    return (2.0 * speed * h + gravity * h * h) * moving
+    out = np.empty(len(radii))
+    _margins(velocities, float(h), radii, moving, float(gravity), out)
+    return out
+
+
+@njit
+def _margins(v, h, radii, moving, gravity, out):
+    """:func:`margins` in one compiled loop (NumPy's seven array operations cost ~5 us a step
+    for a scene of a few bodies)."""
+    for i in range(radii.size):
+        speed = math.hypot(v[i, 0], v[i, 1]) + abs(v[i, 2]) * radii[i]
+        out[i] = (2.0 * speed * h + gravity * h * h) * moving[i]
 
 
 def displacement(start: np.ndarray, end: np.ndarray, radii: np.ndarray) -> np.ndarray:

@@ -59,3 +59,23 @@ def all_by_case(q, v, members, body1, body2, geometry, static2, gap, rate, jac, 
         circle_edge.batch_all(q, v, body1, body2, geometry, static2, m2, gap, rate, jac, bias)
     if m3.size:
         circle_circle.batch_all(q, v, body1, body2, geometry, static2, m3, gap, rate, jac, bias)
+
+
+@njit
+def gaps_by_case(q, v, members, body1, body2, geometry, static2, gap, rate):
+    """d and d' of every contact (``members``: :func:`by_case`), each case by its generated
+    batch_gap and batch_gap_velocity: the same calls as runtime.solve.rows.RowEvaluator.
+    gap_and_rate, so the same numbers."""
+    m0, m1, m2, m3 = members
+    if m0.size:
+        vertex_edge.batch_gap(q, body1, body2, geometry, m0, gap)
+        vertex_edge.batch_gap_velocity(q, v, body1, body2, geometry, static2, m0, rate)
+    if m1.size:
+        vertex_circle.batch_gap(q, body1, body2, geometry, m1, gap)
+        vertex_circle.batch_gap_velocity(q, v, body1, body2, geometry, static2, m1, rate)
+    if m2.size:
+        circle_edge.batch_gap(q, body1, body2, geometry, m2, gap)
+        circle_edge.batch_gap_velocity(q, v, body1, body2, geometry, static2, m2, rate)
+    if m3.size:
+        circle_circle.batch_gap(q, body1, body2, geometry, m3, gap)
+        circle_circle.batch_gap_velocity(q, v, body1, body2, geometry, static2, m3, rate)

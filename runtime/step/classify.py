@@ -154,7 +154,7 @@ class Frame:
 
     @property
     def min_gap(self) -> float:
-        return float(np.min(self.rows.gap)) if len(self.rows.gap) else np.inf
+        return float(self.rows.gap.min()) if len(self.rows.gap) else np.inf
 
 
 @dataclass(frozen=True)

@@ -69,9 +69,10 @@ def energy_scale(scene, radii: np.ndarray, kinetic: float) -> float:
 def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, int] | None:
     """(depth, depth / the smaller bounding radius, contact index) of the frame's deepest
     overlap relative to body size, or None if nothing overlaps."""
-    depth = -np.asarray(frame.rows.gap, dtype=float)
-    if not (depth > 0.0).any():
+    gap = frame.rows.gap
+    if not gap.size or gap.min() >= 0.0:  # (one call: this runs at every step)
         return None
+    depth = -gap
     size = np.minimum(radii[frame.rows.body1], radii[frame.rows.body2])
     k = int(np.argmax(depth / size))
     return float(depth[k]), float(depth[k] / size[k]), k
@@ -166,18 +167,21 @@ class FixedEdges:
         self.segments = np.array(segments, dtype=float).reshape(-1, 5)
         self.arcs = np.array(arcs, dtype=float).reshape(-1, 6)
 
-    def crossing(self, p0: np.ndarray, p1: np.ndarray) -> tuple[int, int] | None:
-        """(row of p0, fixed body) of the first path p0[i] -> p1[i] ((n, 2) arrays) that crosses
-        a fixed edge, or None."""
-        row, owner = _crossing(
-            np.ascontiguousarray(p0), np.ascontiguousarray(p1), self.segments, self.arcs
-        )
+    def crossing(
+        self, p0: np.ndarray, p1: np.ndarray, rows: np.ndarray | None = None
+    ) -> tuple[int, int] | None:
+        """(row of p0, fixed body) of the first path p0[i] -> p1[i] ((n, 2) or (n, 3) arrays:
+        x, y first) that crosses a fixed edge, or None; ``rows``: the paths to look at (default
+        all), so a caller need not copy the moving bodies' rows out of its poses."""
+        p0, p1 = np.ascontiguousarray(p0), np.ascontiguousarray(p1)
+        rows = np.arange(len(p0)) if rows is None else rows
+        row, owner = _crossing(p0, p1, rows, self.segments, self.arcs)
         return None if row < 0 else (int(row), int(owner))
 
 
 @njit
-def _crossing(p0, p1, segments, arcs):
-    for i in range(p0.shape[0]):
+def _crossing(p0, p1, rows, segments, arcs):
+    for i in rows:
         dx, dy = p1[i, 0] - p0[i, 0], p1[i, 1] - p0[i, 1]
         if dx == 0.0 and dy == 0.0:
             continue

@@ -27,6 +27,8 @@ from runtime.step.world import (
     mechanical_energy,
 )
 
+_NO_JOINTS = np.zeros(0)  # a record's joint forces in a scene without joints (never written)
+
 __all__ = [
     "Run",
     "SimulationError",
@@ -122,12 +124,14 @@ class _Recorder:
         r["momentum"].append(linear_momentum(self.scene, velocities, self.masses))
         r["min_gap"].append(frame.min_gap)
         r["loss"].append(loss)
-        self.run.contacts.append(frame.contacts.take(recorded))
+        every = len(recorded) == len(frame.contacts)  # recorded: sorted, distinct indices
+        self.run.contacts.append(frame.contacts if every else frame.contacts.take(recorded))
         self.run.contact_forces.append(np.asarray(forces, dtype=float))
         friction = np.zeros(len(forces)) if tangent is None else np.asarray(tangent, dtype=float)
         self.run.friction_forces.append(friction)
         rows = len(self.run.joint_names)
-        r["joints"].append(np.full(rows, np.nan) if joints is None else joints[:rows])
+        r["joints"].append(_NO_JOINTS if not rows else
+                           np.full(rows, np.nan) if joints is None else joints[:rows])  # fmt: skip
 
     def finish(self, world: World, wall: float) -> Run:
         r, run, n = self.rows, self.run, self.n

@@ -48,6 +48,8 @@ from runtime.step.integrators import FIXED_STEP, Trajectory
 from runtime.step.pair_scan import IslandsMeet
 from runtime.step.resting import settle
 
+_HELD = np.isin(np.arange(max(RESTING, LIFTING) + 1), (RESTING, LIFTING))  # by mode: held?
+
 
 class _Merge(Exception):
     """An island's bodies may reach another island within the step: do it as one island."""
@@ -141,11 +143,12 @@ class Stepper:
         if self.compiled:
             # imported here: they compile in every contact case (runtime/solve/kernel_set.py);
             # the general path imports the kernels of the scene's cases only
-            from runtime.step import compiled_frame, compiled_stages
+            from runtime.step import compiled_frame, compiled_stages, quiet
 
             self._step = Bound(compiled_stages.step)
             self._frame_call = Bound(compiled_frame.settle_frame)
             self._method_id = compiled_stages.METHOD_ID[method]
+            self._quiet_call = Bound(quiet.is_quiet)
 
     # -- stages ----------------------------------------------------------------------------
 
@@ -222,13 +225,17 @@ class Stepper:
         rows = Rows(gap, rate, jac, bias, contacts.body1, contacts.body2)
         frame = Frame(contacts, keys, rows, modes, velocities, margin, impulses, loss)
         rest = frame.resting  # ascending; the problem's rows are the same contacts by island
-        count, islands = int(counts[0]), int(counts[1])
+        count, islands = counts.tolist()
         order = order[:count]
-        # every contact resting, in island order already (scattered copies): no copy to take
-        same = count == m and (m == 1 or bool((order[1:] > order[:-1]).all()))
+        if count == m and (m == 1 or bool((order[1:] > order[:-1]).all())):
+            # every contact resting, in island order already: the frame's arrays as they are
+            # (nothing writes to them after this), no copies or lookups
+            problem = ForceProblem(contacts, rest, offsets[:islands], guess, labels, keys)
+            self.forces.memory.update(keys, guess)
+            return frame, RestingSolution(problem, acc, forces, rates)
         problem = ForceProblem(
-            contacts if same else contacts.take(order), np.searchsorted(rest, order),
-            offsets[:islands].copy(), guess[order], labels[:count].copy(), keys[order],
+            contacts.take(order), np.searchsorted(rest, order), offsets[:islands].copy(),
+            guess[order], labels[:count].copy(), keys[order],
         )  # fmt: skip
         self.forces.memory.update(problem.keys, problem.guess)
         return frame, RestingSolution(problem, acc, forces[rest], rates[rest])
@@ -236,7 +243,7 @@ class Stepper:
     def _hold(self, frame: Frame, active) -> None:
         """Remember the frame's resting (and lifting) contacts, for the hysteresis of the next
         frame; those of bodies outside ``active`` stay as they were."""
-        resting = key_set(frame.keys[(frame.modes == RESTING) | (frame.modes == LIFTING)])
+        resting = key_set(frame.keys[_HELD[frame.modes]])
         if active is None:
             self.held = resting
             return
@@ -362,6 +369,8 @@ class Stepper:
                 moved = sweep.displacement(reach[0], end[0], self.radii)
                 if np.any((moved > reach[1])[active]):
                     raise _Merge
+            if self.compiled and self._quiet(q, end, frame):
+                return end
             labels = self._islands(frame, active)
             if sweep.outran(q, end[0], self.radii, frame.margin):
                 frame, labels = self._widen(q, end[0], frame, limits, active)
@@ -394,6 +403,17 @@ class Stepper:
                 new_q[members], new_v[members] = q_i[members], v_i[members]
             return new_q, new_v
 
+    def _quiet(self, q, end, frame: Frame) -> bool:
+        """Whether the trial from q to ``end`` has nothing for the event search to find
+        (runtime.step.quiet): then it is the step, without the search."""
+        c, rows = frame.contacts, frame.rows
+        return self._quiet_call(
+            q, end[0], end[1], frame.margin, self.radii, self.events.half_width,
+            self.events.switches, c.case, c.body1, c.body2, c.geometry,
+            np.ascontiguousarray(self.fixed[c.body2]), frame.modes, rows.gap,
+            rows.gap_velocity, self.touch, settings.CREEP * self.resting_speed, settings.FAST_PAIR,
+        )  # fmt: skip
+
     def _islands(self, frame: Frame, active) -> np.ndarray:
         """Island label per body from the frame's contacts (-1: fixed, or not ``active``)."""
         c = frame.contacts
@@ -425,13 +445,12 @@ class Stepper:
         """The contacts and forces a step records: those at its start, lifting ones counted as
         resting (their force is solved with them)."""
         report.frame = frame
-        lifting = frame.lifting
-        if lifting.size == 0:
+        if not (frame.modes == LIFTING).any():
             report.recorded, report.forces = frame.resting, resting.forces
             report.tangent_forces = resting.tangent_forces
             report.joint_forces = resting.joint_forces
             return
-        every = np.sort(np.concatenate([frame.resting, lifting]))
+        every = np.sort(np.concatenate([frame.resting, frame.lifting]))
         solved = self.solve(q, frame, every)
         report.recorded, report.forces = every, solved.forces
         report.tangent_forces = solved.tangent_forces

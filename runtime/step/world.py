@@ -22,6 +22,7 @@ import numpy as np
 
 from runtime import settings
 from runtime.collide.contact_set import Contacts
+from runtime.compiled import njit
 from runtime.solve.forces import Stabilisation
 from runtime.solve.lcp import ContactSolverError
 from runtime.step.classify import OPEN
@@ -61,29 +62,59 @@ def body_masses(scene) -> tuple[np.ndarray, np.ndarray]:
 def kinetic_energy(scene, velocities: np.ndarray, masses=None) -> float:
     """Kinetic energy of the moving bodies (``masses``: body_masses(scene), if at hand)."""
     mass, inertia = body_masses(scene) if masses is None else masses
-    v = np.asarray(velocities, dtype=float).reshape(-1, 3)
-    terms = 0.5 * mass * (v[:, 0] ** 2 + v[:, 1] ** 2) + 0.5 * inertia * v[:, 2] ** 2
-    return float(terms.sum())  # the method: np.sum's dispatch costs more than a few bodies' sum
+    v = np.ascontiguousarray(velocities, dtype=float).reshape(-1, 3)
+    return _kinetic(mass, inertia, v)
 
 
 def mechanical_energy(scene, poses: np.ndarray, velocities: np.ndarray, masses=None) -> float:
     """Kinetic + gravitational potential energy of the moving bodies (+ the springs' and the
     mutual gravitation's energy, if any: runtime.solve.applied_forces)."""
-    masses = body_masses(scene) if masses is None else masses
-    g = np.asarray(scene.gravity, dtype=float)
-    q = np.asarray(poses, dtype=float).reshape(-1, 3)
-    potential = -float((masses[0] * (g[0] * q[:, 0] + g[1] * q[:, 1])).sum())
+    mass, inertia = body_masses(scene) if masses is None else masses
+    gx, gy = scene.gravity
+    q = np.ascontiguousarray(poses, dtype=float).reshape(-1, 3)
+    v = np.ascontiguousarray(velocities, dtype=float).reshape(-1, 3)
+    energy = _kinetic(mass, inertia, v) - _lifted(mass, float(gx), float(gy), q)
     if scene.springs or scene.mutual_gravity:
         from runtime.solve.applied_forces import applied_potential
 
-        potential += applied_potential(scene, poses)
-    return kinetic_energy(scene, velocities, masses) + potential
+        energy += applied_potential(scene, poses)
+    return energy
+
+
+@njit
+def _kinetic(mass, inertia, v):
+    """sum m |v|^2 / 2 + I w^2 / 2 over the bodies (0 weights for fixed ones), one compiled
+    loop: summed by NumPy ufuncs it cost ~10 us a step for a scene of two bodies."""
+    e = 0.0
+    for i in range(v.shape[0]):
+        e += 0.5 * mass[i] * (v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
+        e += 0.5 * inertia[i] * v[i, 2] * v[i, 2]
+    return e
+
+
+@njit
+def _lifted(mass, gx, gy, q):
+    """sum m g . x over the bodies: minus their gravitational potential energy."""
+    s = 0.0
+    for i in range(q.shape[0]):
+        s += mass[i] * (gx * q[i, 0] + gy * q[i, 1])
+    return s
 
 
 def linear_momentum(scene, velocities: np.ndarray, masses=None) -> np.ndarray:
     mass = (body_masses(scene) if masses is None else masses)[0]
-    v = np.asarray(velocities, dtype=float).reshape(-1, 3)
-    return mass @ v[:, :2]
+    v = np.ascontiguousarray(velocities, dtype=float).reshape(-1, 3)
+    return _momentum(mass, v)
+
+
+@njit
+def _momentum(mass, v):
+    """sum m v over the bodies (0 weights for fixed ones), one compiled loop."""
+    out = np.zeros(2)
+    for i in range(v.shape[0]):
+        out[0] += mass[i] * v[i, 0]
+        out[1] += mass[i] * v[i, 1]
+    return out
 
 
 class World:
@@ -295,16 +326,16 @@ class World:
     def _check_step(self, new_q: np.ndarray, new_v: np.ndarray) -> None:
         """A non-finite state, a centre of mass through a fixed edge, two moving bodies through
         each other."""
-        if not (np.isfinite(new_q).all() and np.isfinite(new_v).all()):
-            raise self.failure("produced a non-finite state")
+        if not (math.isfinite(new_q.sum()) and math.isfinite(new_v.sum())):
+            if not (np.isfinite(new_q).all() and np.isfinite(new_v).all()):  # not an overflow
+                raise self.failure("produced a non-finite state")
         self._previous = (self.t, (self.poses.copy(), self.velocities.copy()))
         if self._edges is None:
             return
         bodies = self.scene.bodies
-        start, end = self.poses[self._moving, :2], new_q[self._moving, :2]
-        crossed = self._edges.crossing(start, end)
+        crossed = self._edges.crossing(self.poses, new_q, self._moving)
         if crossed is not None:
-            body, wall = bodies[self._moving[crossed[0]]], bodies[crossed[1]]
+            body, wall = bodies[crossed[0]], bodies[crossed[1]]
             raise self.failure(
                 f"moved the centre of mass of {body.name} through {wall.name} (it tunnelled): "
                 f"{_TOO_LARGE}"

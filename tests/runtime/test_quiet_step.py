@@ -1,0 +1,71 @@
+"""A quiet step (runtime.step.quiet: the event search skipped where it has nothing to find) is the
+same step as the one the event search ends: scenes with bounces, simultaneous impacts, corners
+that turn onto edges, fast bodies and piles step to the same states, bit for bit, with the check
+on and off -- and the check does decide both ways, so the equality is not vacuous."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import runtime
+from bench.scenes import falling_pile
+from runtime.step.stepper import Stepper
+
+SCENES = Path(__file__).resolve().parents[2] / "scenes"
+
+
+def _run(scene, steps: int, dt: float, quiet: bool, monkeypatch) -> tuple:
+    """States after every step, impact times, and how often the check said quiet / not."""
+    decided = {True: 0, False: 0}
+    check = Stepper._quiet
+
+    def counted(self, q, end, frame):
+        said = check(self, q, end, frame)
+        decided[said] += 1
+        return said and quiet
+
+    monkeypatch.setattr(Stepper, "_quiet", counted)
+    world = runtime.World(scene)
+    assert world.stepper.compiled  # the check belongs to the compiled path
+    states, impacts = [], []
+    for _ in range(steps):
+        impacts += world.step(dt).impact_times
+        states.append(np.concatenate([world.poses, world.velocities]))
+    monkeypatch.undo()
+    return np.array(states), np.array(impacts), decided
+
+
+CASES = [  # scene, steps, dt, what the check should say: always quiet, both, never quiet
+    ("disc_in_bowl.toml", 300, 0.01, "quiet"),  # resting on an arc
+    ("box_on_floor.toml", 300, 0.005, "quiet"),  # resting on its corners
+    ("d_shape_rolling.toml", 300, 0.005, "quiet"),  # an arc rolling on a floor
+    ("ball_drop.toml", 400, 0.005, "both"),  # bounces: located impacts, apexes
+    ("disc_pile.toml", 300, 0.002, "both"),  # simultaneous impacts, a pile settling
+    ("rounded_box_into_bowl.toml", 300, 0.005, "both"),  # arcs and corners landing in an arc
+    ("wall_shot.toml", 30, 1 / 60, "never"),  # a fast body: 1.67 m a step at a 1 cm wall
+]
+
+
+@pytest.mark.parametrize(("name", "steps", "dt", "said"), CASES)
+def test_shipped_scenes_step_the_same_with_and_without_the_quiet_check(
+    name, steps, dt, said, monkeypatch
+):
+    scene = runtime.load_scene(SCENES / name)
+    states, impacts, decided = _run(scene, steps, dt, True, monkeypatch)
+    general, general_impacts, _ = _run(scene, steps, dt, False, monkeypatch)
+    assert np.array_equal(states, general)
+    assert np.array_equal(impacts, general_impacts)
+    assert (decided[True] > 0) == (said != "never")  # the check was taken, or never
+    assert (decided[False] > 0) == (said != "quiet")  # and declined, or never
+
+
+def test_a_landing_pile_steps_the_same_with_and_without_the_quiet_check(monkeypatch):
+    states, impacts, decided = _run(falling_pile(12), 300, 1e-3, True, monkeypatch)
+    general, general_impacts, _ = _run(falling_pile(12), 300, 1e-3, False, monkeypatch)
+    assert len(impacts) > 20  # impacts located within steps, in islands of several contacts
+    assert decided[True] > 50 and decided[False] > 20
+    assert np.array_equal(states, general)
+    assert np.array_equal(impacts, general_impacts)

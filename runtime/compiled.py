@@ -22,6 +22,7 @@ import warnings
 from pathlib import Path
 
 import numba
+import numpy as np
 from numba.core.errors import NumbaExperimentalFeatureWarning
 from threadpoolctl import threadpool_limits
 
@@ -87,6 +88,7 @@ def njit(*args, **kwargs):
 
 
 CHECK_CALLS = bool(os.environ.get("CURVED_EDGE_CHECK_CALLS"))  # tests turn it on (conftest)
+_SCALARS = (bool, int, float, complex, np.generic)  # typed by their Python type alone
 
 
 class Bound:
@@ -95,11 +97,15 @@ class Bound:
     Why: numba resolves the types of every argument at every call from Python; for an argument
     that is itself a compiled function (how the engine passes the kernels of a scene's contact
     cases, so only those are imported) that costs ~4 us each, more than a small island's whole
-    stage. The first call goes through the dispatcher (compiling, or loading the cache); later
-    calls go straight to the compiled entry point, which does not check types: the caller
-    (runtime.step.stepper) builds every array with its dtype and layout, and with
-    ``CURVED_EDGE_CHECK_CALLS`` set (the test suite does) every call is checked against the
-    first, and a call with other kinds of arguments is a TypeError (a bug of the caller)."""
+    stage. The first call with arguments of new kinds goes through the dispatcher (compiling,
+    or loading the cache); later calls -- from any Bound of the same function in this process,
+    so a new World does not pay it again (~0.1 ms a function: a run of a few steps paid more
+    for it than for its steps) -- go straight to the compiled entry point, which does not check
+    types: the caller (runtime.step.stepper) builds every array with its dtype and layout, and
+    with ``CURVED_EDGE_CHECK_CALLS`` set (the test suite does) every call is checked against
+    the first, and a call with other kinds of arguments is a TypeError (a bug of the caller)."""
+
+    _entries: dict = {}  # (dispatcher, kinds of the arguments) -> entry point, per process
 
     def __init__(self, dispatcher) -> None:
         self.dispatcher = dispatcher
@@ -108,8 +114,17 @@ class Bound:
 
     @staticmethod
     def _kinds(args: tuple) -> tuple:
+        """What numba's type of each argument depends on: an array's dtype, dimensions, layout
+        and writability, a tuple's members, a scalar's Python type (anything else: the object
+        itself, as a compiled function passed as an argument is typed by its identity)."""
         return tuple(
-            (a.dtype.num, a.ndim, a.flags.c_contiguous) if hasattr(a, "flags") else type(a)
+            (a.dtype.num, a.ndim, a.flags.c_contiguous, a.flags.writeable)
+            if hasattr(a, "flags")
+            else Bound._kinds(a)
+            if type(a) is tuple
+            else type(a)
+            if isinstance(a, _SCALARS)
+            else ("object", id(a))
             for a in args
         )
 
@@ -121,6 +136,11 @@ class Bound:
                     f"its first call: {self._kinds(args)} != {self.kinds}"
                 )
             return self.entry(*args)
+        kinds = self._kinds(args)
+        entry = self._entries.get((self.dispatcher, kinds))
+        if entry is not None:
+            self.entry, self.kinds = entry, kinds
+            return entry(*args)
         with warnings.catch_warnings():
             # compiled stages take the kernels of a scene's cases as function arguments
             # (runtime.solve.kernel_set): numba calls that experimental when it compiles them
@@ -129,7 +149,8 @@ class Bound:
         types = tuple(self.dispatcher.typeof_pyval(a) for a in args)
         overload = self.dispatcher.overloads.get(types)
         if overload is not None:
-            self.entry, self.kinds = overload.entry_point, self._kinds(args)
+            self.entry, self.kinds = overload.entry_point, kinds
+            self._entries[(self.dispatcher, kinds)] = self.entry
         return result
 
 

@@ -42,6 +42,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from enum import IntEnum
+from functools import cached_property
 
 import numpy as np
 
@@ -152,8 +153,10 @@ class Frame:
         """Indices of the contacts whose time of impact is watched: open, separating, lifting."""
         return _WATCHED[self.modes].nonzero()[0]
 
-    @property
+    @cached_property
     def min_gap(self) -> float:
+        """The smallest gap (m; inf without contacts): the records and the penetration guard
+        ask for it at every step."""
         return float(self.rows.gap.min()) if len(self.rows.gap) else np.inf
 
 

@@ -69,10 +69,9 @@ def energy_scale(scene, radii: np.ndarray, kinetic: float) -> float:
 def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, int] | None:
     """(depth, depth / the smaller bounding radius, contact index) of the frame's deepest
     overlap relative to body size, or None if nothing overlaps."""
-    gap = frame.rows.gap
-    if not gap.size or gap.min() >= 0.0:  # (one call: this runs at every step)
+    if not frame.min_gap < 0.0:  # (the frame's, asked once: this runs at every step)
         return None
-    depth = -gap
+    depth = -np.asarray(frame.rows.gap, dtype=float)
     size = np.minimum(radii[frame.rows.body1], radii[frame.rows.body2])
     k = int(np.argmax(depth / size))
     return float(depth[k]), float(depth[k] / size[k]), k

@@ -370,6 +370,15 @@ _TOO_LARGE = (
 def _wrap_angles(poses: np.ndarray) -> None:
     """Angles beyond settings.ANGLE_WRAP wrapped to (-pi, pi] (in place), so a long spin keeps
     the integrator's resolution of the angle."""
-    far = np.abs(poses[:, 2]) > settings.ANGLE_WRAP
-    if far.any():
+    if _far_angle(poses, settings.ANGLE_WRAP):
+        far = np.abs(poses[:, 2]) > settings.ANGLE_WRAP
         poses[far, 2] = np.remainder(poses[far, 2] + np.pi, 2.0 * np.pi) - np.pi
+
+
+@njit
+def _far_angle(poses, limit):
+    """Whether some angle is beyond ``limit`` (one compiled pass: this runs at every step)."""
+    for i in range(poses.shape[0]):
+        if abs(poses[i, 2]) > limit:
+            return True
+    return False

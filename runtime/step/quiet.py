@@ -54,8 +54,8 @@ def is_quiet(
     n = q0.shape[0]
     grow = 1.0 + SLACK
     for i in range(n):
-        moved = _moved(q0, q1, radii, i) * grow
-        if moved > 0.0 and (moved > margin[i] or moved > fast_pair * half_width[i]):
+        moved = _moved(q0, q1, radii, i) * grow  # (not finite: not quiet, as NaN fails all)
+        if not (moved == 0.0 or (moved <= margin[i] and moved <= fast_pair * half_width[i])):
             return False
     m = case.size
     watched = 0
@@ -72,8 +72,8 @@ def is_quiet(
         if not (mode == OPEN or mode == SEPARATING or mode == LIFTING):
             continue
         g0, v0, g1, v1k = gap0[k], rate0[k], gap1[k], rate1[k]
-        if not (math.isfinite(g1) and math.isfinite(v1k)):
-            return False
+        if not (math.isfinite(g1) and math.isfinite(v1k) and math.isfinite(v0)):
+            return False  # (the search takes a secant's rate for a rate that is not finite)
         if g1 <= floor:  # may have crossed (or returned to) d = 0
             return False
         if mode == OPEN and v0 < 0.0 and v1k > -creep:  # may have dipped below 0 in between

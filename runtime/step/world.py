@@ -326,8 +326,9 @@ class World:
     def _check_step(self, new_q: np.ndarray, new_v: np.ndarray) -> None:
         """A non-finite state, a centre of mass through a fixed edge, two moving bodies through
         each other."""
-        if not (math.isfinite(new_q.sum()) and math.isfinite(new_v.sum())):
-            if not (np.isfinite(new_q).all() and np.isfinite(new_v).all()):  # not an overflow
+        if not (math.isfinite(new_q.sum()) and math.isfinite(new_v.sum())):  # one call each
+            # (a sum of finite entries can overflow: then each entry is looked at)
+            if not (np.isfinite(new_q).all() and np.isfinite(new_v).all()):
                 raise self.failure("produced a non-finite state")
         self._previous = (self.t, (self.poses.copy(), self.velocities.copy()))
         if self._edges is None:

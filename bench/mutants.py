@@ -52,6 +52,8 @@ CONTACTS = "tests/runtime/test_contacts.py tests/runtime/test_contact_properties
 EVENTS = "runtime/step/events.py"
 GUESS = "tests/runtime/test_warm_guess.py tests/runtime/test_physics.py tests/runtime/test_collisions.py"
 COMPOUND = "tests/runtime/test_compound.py tests/runtime/test_shapes.py tests/runtime/test_scene.py"
+QUIET = "runtime/step/quiet.py"
+QUIETS = "tests/runtime/test_quiet_step.py"
 
 # fmt: off
 MUTANTS: list[Mutant] = [
@@ -135,6 +137,11 @@ MUTANTS: list[Mutant] = [
     Mutant("scene:inverse-masses-rows", "runtime/model/scene.py", "(b.inverse_mass, b.inverse_mass, b.inverse_inertia)", "(b.inverse_mass, b.inverse_inertia, b.inverse_mass)", STEPPING + " " + IMPACTS, "W = diag(1/m, 1/I, 1/m): the inverse inertia on y, the inverse mass on the rotation"),
     # the impulses' final inelastic pass and the effective-mass matrix of several contacts
     Mutant("impulses:final-pass-not-applied", IMPULSES, "    total += p\n    rate += A @ p\n    return waves", "    rate += A @ p\n    return waves", IMPACTS, "the final inelastic pass's impulses counted in d' but never applied to the bodies"),
+    # runtime/step/quiet.py: a step that ends without the event search must have had no event
+    Mutant("quiet:crossing-not-seen", QUIET, "if g1 <= floor:", "if g1 <= -floor:", QUIETS, "a watched contact that ends a hair through its surface counts as quiet: its impact never located"),
+    Mutant("quiet:dip-not-seen", QUIET, "v0 < 0.0 and v1k > -creep", "v0 < 0.0 and v1k > 1.0", QUIETS, "an open contact approaching at the start and receding at the end counts as quiet: a dip below d = 0 between the ends missed"),
+    Mutant("quiet:margin-not-checked", QUIET, "moved <= margin[i] and moved", "moved", QUIETS, "a body that outran its margin counts as quiet: contacts beyond the swept ones never watched"),
+    Mutant("bound:writability-not-keyed", "runtime/compiled.py", "a.flags.c_contiguous, a.flags.writeable)", "a.flags.c_contiguous)", "tests/runtime/test_bound.py", "a read-only array shares the entry of a writable one (numba types them apart)"),
     Mutant("assembly:island-matrix-half", ASSEMBLY, "if a != b or side_a != side_b:", "if side_a != side_b:", "tests/runtime/test_warm_guess.py " + IMPACTS, "A of several contacts on one body: a pair on the same side of it filled on one side of the diagonal"),
 ]
 # fmt: on

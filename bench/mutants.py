@@ -138,7 +138,7 @@ MUTANTS: list[Mutant] = [
     # the impulses' final inelastic pass and the effective-mass matrix of several contacts
     Mutant("impulses:final-pass-not-applied", IMPULSES, "    total += p\n    rate += A @ p\n    return waves", "    rate += A @ p\n    return waves", IMPACTS, "the final inelastic pass's impulses counted in d' but never applied to the bodies"),
     # runtime/step/quiet.py: a step that ends without the event search must have had no event
-    Mutant("quiet:crossing-not-seen", QUIET, "if g1 <= floor:", "if g1 <= -floor:", QUIETS, "a watched contact that ends a hair through its surface counts as quiet: its impact never located"),
+    Mutant("quiet:crossing-not-seen", QUIET, "if g1 <= floor:", "if g1 <= floor and g0 <= floor:", QUIETS, "only contacts touching at the start are checked for a crossing: an open one that closed within the step counts as quiet, its impact never located"),
     Mutant("quiet:dip-not-seen", QUIET, "v0 < 0.0 and v1k > -creep", "v0 < 0.0 and v1k > 1.0", QUIETS, "an open contact approaching at the start and receding at the end counts as quiet: a dip below d = 0 between the ends missed"),
     Mutant("quiet:margin-not-checked", QUIET, "moved <= margin[i] and moved", "moved", QUIETS, "a body that outran its margin counts as quiet: contacts beyond the swept ones never watched"),
     Mutant("bound:writability-not-keyed", "runtime/compiled.py", "a.flags.c_contiguous, a.flags.writeable)", "a.flags.c_contiguous)", "tests/runtime/test_bound.py", "a read-only array shares the entry of a writable one (numba types them apart)"),

@@ -278,9 +278,12 @@ def run_command(args: argparse.Namespace, prog: str = PROG) -> int:
             output.commit(info["files"])
     except OutputError as exc:
         raise UsageError(str(exc)) from None
-    except KeyboardInterrupt as exc:
-        what = "terminated" if isinstance(exc, Terminated) else "interrupted"
-        raise type(exc)(f"{what}; {str(out)!r} keeps its previous contents") from None
+    except (KeyboardInterrupt, ImportError, SystemError) as exc:
+        interrupt = _interrupt_behind(exc)
+        if interrupt is None:
+            raise
+        what = "terminated" if isinstance(interrupt, Terminated) else "interrupted"
+        raise type(interrupt)(f"{what}; {str(out)!r} keeps its previous contents") from None
     status = 0
     if "mp4_error" in info:
         _say(sys.stderr, prog, f"error: animation.mp4 not written: {info['mp4_error']}")
@@ -315,7 +318,7 @@ def main(argv: Sequence[str] | None = None, prog: str = PROG) -> int:
     except KeyboardInterrupt as exc:
         _say(sys.stderr, prog, str(exc) or "interrupted")
         return 143 if isinstance(exc, Terminated) else 130
-    except ImportError as exc:  # a library's C extension interrupted while it loaded
+    except (ImportError, SystemError) as exc:  # interrupted inside a C extension
         interrupt = _interrupt_behind(exc)
         if interrupt is None:
             raise
@@ -329,7 +332,9 @@ def main(argv: Sequence[str] | None = None, prog: str = PROG) -> int:
 def _interrupt_behind(exc: BaseException) -> KeyboardInterrupt | None:
     """The Ctrl-C or SIGTERM an exception stems from: one that arrives while a C extension
     initialises (scipy's HiGHS, on the first scene load) surfaces as "ImportError:
-    initialization failed", and a later import of the half-loaded package fails again."""
+    initialization failed", and a later import of the half-loaded package fails again; one
+    that arrives while numba's dispatcher is in a compiled call (it runs Python to unpickle
+    the result) surfaces as "SystemError: ... returned a result with an exception set"."""
     seen: set[int] = set()
     while exc is not None and id(exc) not in seen:
         if isinstance(exc, KeyboardInterrupt):

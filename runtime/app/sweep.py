@@ -30,7 +30,16 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from runtime.app.cli import Terminated, UsageError, _guard_limit, _load, _number, _Parser, _say
+from runtime.app.cli import (
+    Terminated,
+    UsageError,
+    _guard_limit,
+    _interrupt_behind,
+    _load,
+    _number,
+    _Parser,
+    _say,
+)
 
 PROG = "sweep"
 __all__ = ["main"]
@@ -263,6 +272,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt as exc:
         _say(sys.stderr, PROG, str(exc) or "interrupted")
         return 143 if isinstance(exc, Terminated) else 130
+    except (ImportError, SystemError) as exc:  # interrupted inside a C extension
+        interrupt = _interrupt_behind(exc)
+        if interrupt is None:
+            raise
+        _say(sys.stderr, PROG, str(interrupt) or "interrupted")
+        return 143 if isinstance(interrupt, Terminated) else 130
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)

@@ -222,3 +222,36 @@ def test_an_interrupt_inside_a_c_extension_import_is_one_line(monkeypatch, capsy
     monkeypatch.setattr(cli, "run_command", broken)
     with pytest.raises(ImportError, match="foo"):
         cli.main(["scene.toml"])
+
+
+def test_an_interrupt_inside_a_compiled_call_is_one_line_and_keeps_the_results(
+    monkeypatch, capsys, scene_file, tmp_path
+):
+    """Ctrl-C while numba's dispatcher is in a compiled call (it runs Python to unpickle the
+    result) surfaces as "SystemError: ... returned a result with an exception set" with the
+    KeyboardInterrupt as its cause: a --force rerun still ends as interrupted, status 130, one
+    line, the previous results untouched; another SystemError is not hidden."""
+    scene, out = str(scene_file()), tmp_path / "out"
+    assert cli.main([scene, "--duration", "0.01", "--out", str(out), "--quiet"]) == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    capsys.readouterr()
+
+    def interrupted(*args, **kwargs):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise SystemError("CPUDispatcher(<function _merged>) returned a result") from exc
+
+    monkeypatch.setattr(cli, "_simulate", interrupted)
+    assert cli.main([scene, "--duration", "0.01", "--out", str(out), "--force"]) == 130
+    assert capsys.readouterr().err.strip().splitlines() == [
+        f"simulate: interrupted; {str(out)!r} keeps its previous contents"
+    ]
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+
+    def broken(*args, **kwargs):
+        raise SystemError("a bug")
+
+    monkeypatch.setattr(cli, "_simulate", broken)
+    with pytest.raises(SystemError, match="a bug"):
+        cli.main([scene, "--duration", "0.01", "--out", str(out), "--force"])

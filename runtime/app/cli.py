@@ -278,7 +278,7 @@ def run_command(args: argparse.Namespace, prog: str = PROG) -> int:
             output.commit(info["files"])
     except OutputError as exc:
         raise UsageError(str(exc)) from None
-    except (KeyboardInterrupt, ImportError, SystemError) as exc:
+    except INTERRUPTIBLE as exc:
         interrupt = _interrupt_behind(exc)
         if interrupt is None:
             raise
@@ -315,18 +315,25 @@ def main(argv: Sequence[str] | None = None, prog: str = PROG) -> int:
     except UsageError as exc:
         _say(sys.stderr, prog, f"error: {exc}")
         return 2
-    except KeyboardInterrupt as exc:
-        _say(sys.stderr, prog, str(exc) or "interrupted")
-        return 143 if isinstance(exc, Terminated) else 130
-    except (ImportError, SystemError) as exc:  # interrupted inside a C extension
-        interrupt = _interrupt_behind(exc)
-        if interrupt is None:
-            raise
-        _say(sys.stderr, prog, str(interrupt) or "interrupted")
-        return 143 if isinstance(interrupt, Terminated) else 130
+    except INTERRUPTIBLE as exc:
+        return interrupted(exc, prog)
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+
+
+# what a Ctrl-C or SIGTERM can surface as (see _interrupt_behind)
+INTERRUPTIBLE = (KeyboardInterrupt, ImportError, SystemError)
+
+
+def interrupted(exc: BaseException, prog: str) -> int:
+    """Exit status 130 (Ctrl-C) or 143 (SIGTERM) for an exception that stems from one, after
+    one line on stderr; any other exception is raised again."""
+    interrupt = _interrupt_behind(exc)
+    if interrupt is None:
+        raise exc
+    _say(sys.stderr, prog, str(interrupt) or "interrupted")
+    return 143 if isinstance(interrupt, Terminated) else 130
 
 
 def _interrupt_behind(exc: BaseException) -> KeyboardInterrupt | None:

@@ -31,14 +31,15 @@ from pathlib import Path
 from typing import Any
 
 from runtime.app.cli import (
+    INTERRUPTIBLE,
     Terminated,
     UsageError,
     _guard_limit,
-    _interrupt_behind,
     _load,
     _number,
     _Parser,
     _say,
+    interrupted,
 )
 
 PROG = "sweep"
@@ -269,15 +270,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     except _ChunkFailed:
         return 1
-    except KeyboardInterrupt as exc:
-        _say(sys.stderr, PROG, str(exc) or "interrupted")
-        return 143 if isinstance(exc, Terminated) else 130
-    except (ImportError, SystemError) as exc:  # interrupted inside a C extension
-        interrupt = _interrupt_behind(exc)
-        if interrupt is None:
-            raise
-        _say(sys.stderr, PROG, str(interrupt) or "interrupted")
-        return 143 if isinstance(interrupt, Terminated) else 130
+    except INTERRUPTIBLE as exc:
+        return interrupted(exc, PROG)
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)

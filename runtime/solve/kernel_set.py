@@ -79,3 +79,26 @@ def gaps_by_case(q, v, members, body1, body2, geometry, static2, gap, rate):
     if m3.size:
         circle_circle.batch_gap(q, body1, body2, geometry, m3, gap)
         circle_circle.batch_gap_velocity(q, v, body1, body2, geometry, static2, m3, rate)
+
+
+@njit
+def candidate_gaps(poses, body1, body2, geometry, members, case_start, gap):
+    """d of the contact finder's candidates (runtime.collide.finder: ``members`` grouped by case
+    id, each case from ``case_start[id]``), each case by its generated batch_gap; returns how
+    many were evaluated (fewer than the candidates: a case beyond the four, a finder's bug)."""
+    s = case_start
+    m0, m1, m2, m3 = (
+        members[s[0] : s[1]],
+        members[s[1] : s[2]],
+        members[s[2] : s[3]],
+        members[s[3] : s[4]],
+    )
+    if m0.size:
+        vertex_edge.batch_gap(poses, body1, body2, geometry, m0, gap)
+    if m1.size:
+        vertex_circle.batch_gap(poses, body1, body2, geometry, m1, gap)
+    if m2.size:
+        circle_edge.batch_gap(poses, body1, body2, geometry, m2, gap)
+    if m3.size:
+        circle_circle.batch_gap(poses, body1, body2, geometry, m3, gap)
+    return m0.size + m1.size + m2.size + m3.size

@@ -12,6 +12,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,6 +27,9 @@ from runtime.step.world import (
     linear_momentum,
     mechanical_energy,
 )
+
+if TYPE_CHECKING:
+    from runtime.step.coast import Stretch
 
 _NO_JOINTS = np.zeros(0)  # a record's joint forces in a scene without joints (never written)
 
@@ -116,16 +120,25 @@ class _Recorder:
         ``tangent``: the friction forces, None without a friction stage; ``joints``: the joint
         rows' forces, None without joints."""
         t, poses, velocities, energy = state
-        r = self.rows
-        r["t"].append(t)
-        r["poses"].append(poses.copy())
-        r["velocities"].append(velocities.copy())
-        r["energy"].append(energy)
-        r["momentum"].append(linear_momentum(self.scene, velocities, self.masses))
-        r["min_gap"].append(frame.min_gap)
-        r["loss"].append(loss)
         every = len(recorded) == len(frame.contacts)  # recorded: sorted, distinct indices
-        self.run.contacts.append(frame.contacts if every else frame.contacts.take(recorded))
+        contacts = frame.contacts if every else frame.contacts.take(recorded)
+        momentum = linear_momentum(self.scene, velocities, self.masses)
+        state = (t, poses.copy(), velocities.copy(), energy, momentum, frame.min_gap)
+        self._append(state, contacts, forces, tangent, loss, joints)
+
+    def add_coasted(self, stretch: Stretch, i: int, loss: float) -> None:
+        """Record i of a stretch of coasted steps (runtime.step.coast)."""
+        s = stretch
+        state = (s.t[i], s.poses[i], s.velocities[i], s.energy[i], s.momentum[i], s.min_gap[i])
+        self._append(state, *s.contacts(i), None, loss, None)
+
+    def _append(self, state: tuple, contacts, forces, tangent, loss: float, joints) -> None:
+        r = self.rows
+        for name, value in zip(("t", "poses", "velocities", "energy", "momentum", "min_gap"),
+                               state, strict=True):  # fmt: skip
+            r[name].append(value)
+        r["loss"].append(loss)
+        self.run.contacts.append(contacts)
         self.run.contact_forces.append(np.asarray(forces, dtype=float))
         friction = np.zeros(len(forces)) if tangent is None else np.asarray(tangent, dtype=float)
         self.run.friction_forces.append(friction)
@@ -167,6 +180,17 @@ def _grid(k: int, steps: int, dt: float, duration: float) -> float:
     return duration if k >= steps else k * dt
 
 
+def _coaster(world: World):
+    """The compiled loop over the World's quiet steps (runtime.step.coast), or None where its
+    steps cannot coast (imported here: it compiles in every contact case, as the compiled
+    path does, and a scene on the general path imports only its own cases' kernels)."""
+    if not world.stepper.compiled:
+        return None
+    from runtime.step.coast import Coaster
+
+    return Coaster(world) if Coaster.applies(world) else None
+
+
 def simulate(
     scene,
     duration: float | None = None,
@@ -200,8 +224,24 @@ def simulate(
     steps = max(0, math.ceil(duration / dt - 1e-9))
     start = time.perf_counter()
     lost = 0.0  # at impacts since the last record
+    coaster = _coaster(world)
+    k, quiet = 0, False
     try:
-        for k in range(steps):
+        while k < steps:
+            if coaster is not None and coaster.ready(quiet):  # quiet steps in one compiled loop
+                ahead = np.arange(k + 1, min(k + coaster.batch, steps) + 1)
+                stretch = coaster.run(np.where(ahead >= steps, duration, ahead * dt))
+                done = 0 if stretch is None else len(stretch)
+                for i in range(done):
+                    if (k + i) % record_every == 0:
+                        recorder.add_coasted(stretch, i, lost)
+                        lost = 0.0
+                    lost += stretch.impact_loss[i]
+                k, quiet = k + done, done == len(ahead)
+                if done:
+                    if progress is not None:
+                        progress(min(1.0, k / steps))
+                    continue
             h = _grid(k + 1, steps, dt, duration) - world.t
             before = (world.t, world.poses, world.velocities, world.energy())
             report = world.step(h)
@@ -217,8 +257,9 @@ def simulate(
                 )
                 lost = 0.0
             lost += report.impact_loss
+            k, quiet = k + 1, report.quiet
             if progress is not None:
-                progress(min(1.0, (k + 1) / steps))
+                progress(min(1.0, k / steps))
         frame, solution = world.final_frame()
         state = (world.t, world.poses, world.velocities, world.energy())
         recorder.add(

@@ -81,6 +81,7 @@ class StepReport:
     joint_forces: np.ndarray | None = None  # the joint rows' forces there
     impact_times: list[float] = field(default_factory=list)
     impact_loss: float = 0.0
+    quiet: bool = False  # one trial, quiet (runtime.step.quiet): nothing located in the step
 
 
 class Stepper:
@@ -370,6 +371,7 @@ class Stepper:
                 if np.any((moved > reach[1])[active]):
                     raise _Merge
             if self.compiled and self._quiet(q, end, frame):
+                report.quiet = events == 0 and active is None
                 return end
             labels = self._islands(frame, active)
             if sweep.outran(q, end[0], self.radii, frame.margin):

@@ -150,7 +150,7 @@ class World:
         self.steps = 0
         self.poses, self.velocities = scene.poses(), scene.velocities()
         self._masses = body_masses(scene)
-        self.last: StepReport | None = None
+        self.last: StepReport | None = None  # (None after steps that coasted: simulate's)
         self.impact_times: list[float] = []
         self._at_state = None  # (frame, resting solution) at the current state, when asked for
         self._last_dt: float | None = None
@@ -281,6 +281,17 @@ class World:
         self._last_dt = float(dt)
         self._at_state = None
         return report
+
+    def advanced(self, t: float, poses, velocities, energy: float, steps: int, last) -> None:
+        """The state after ``steps`` steps done in one compiled loop (runtime.step.coast), each
+        checked by the guards there; ``last``: (t, poses, velocities, dt) of the last of them
+        (a guard of the next step names it)."""
+        self._previous = (last[0], (last[1].copy(), last[2].copy()))
+        self.poses, self.velocities, self._energy, self.t = poses, velocities, energy, t
+        self.steps += steps
+        self.last = None
+        self._last_dt = float(last[3])
+        self._at_state = None
 
     # -- guards ----------------------------------------------------------------------------
 

@@ -1,0 +1,344 @@
+"""Quiet stretches of a run, stepped in one compiled loop.
+
+Why: a step of a small scene is ~20 us of compiled physics wrapped in ~50 us of Python (the
+stages' calls, a Frame and a report per step, the World's guards and energy, the record). Most
+steps of most runs are quiet -- the same contacts, no impact, nothing for the event search --
+and for those the Python decides nothing. This loop takes the same compiled stages in the same
+order -- the contact finder's three stages (runtime.collide.finder), the frame
+(runtime.step.compiled_frame), the trial (runtime.step.compiled_stages), the quiet check
+(runtime.step.quiet), the World's guards, energy and momentum -- and writes each step's record
+into arrays. It stops before the first step that is not such a step: another contact set, a frame or trial the compiled stages decline, a lifting contact (its record needs a
+solve of its own), a trial that is not quiet, a guard that trips, an angle to wrap. World.step
+then does that step the usual way, and names a failure. So a coasted step is the same step, to
+the bit (tests/runtime/test_coast.py), and the World's memory after a stretch (the contacts
+held, the warm-start guesses) is what the steps one by one leave.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from runtime import settings
+from runtime.collide.contact_keys import _looked_up, _packed, key_set
+from runtime.collide.contact_set import Contacts
+from runtime.collide.finder import _first_bad_margin, _tolerance
+from runtime.collide.narrowphase import find_candidates
+from runtime.collide.selection import select
+from runtime.collide.sweep import _margins
+from runtime.compiled import Bound, njit
+from runtime.solve.kernel_set import candidate_gaps
+from runtime.step.classify import LIFTING, RESTING
+from runtime.step.compiled_frame import settle_frame
+from runtime.step.compiled_stages import METHOD_ID, step
+from runtime.step.guards import _crossing, _passed_through
+from runtime.step.quiet import is_quiet
+from runtime.step.world import _far_angle, _kinetic, _lifted, _momentum
+
+BATCH = 256  # steps a call may do at most (a Ctrl-C waits for a call: ~5 ms for a small scene)
+RECORD_BYTES = 4_000_000  # and at most about this much of records (poses and velocities)
+PATIENCE = 64  # quiet steps skipped at most after an attempt that did no step (a pile whose
+# contacts change every step would otherwise pay its frame twice at every quiet step)
+
+
+@njit
+def _deepest_relative(gap, body1, body2, radii):
+    """The largest overlap relative to the smaller bounding radius (runtime.step.guards.
+    deepest_overlap), 0 if nothing overlaps."""
+    worst = 0.0
+    for k in range(gap.size):
+        if gap[k] < 0.0:
+            worst = max(worst, -gap[k] / min(radii[body1[k]], radii[body2[k]]))
+    return worst
+
+
+@njit
+def coast(times, h, limits, t, q, v, energy, finder, memory, bodies, numbers, guards):  # noqa: C901
+    """Steps to each of ``times`` from (q, v) at time t, of lengths ``h`` (with the contact
+    ``limits`` of each, rows of Limits' fields), while each is a quiet step (see the module
+    docstring). ``finder``, ``memory``, ``bodies``, ``numbers``, ``guards``: the tables of
+    runtime.collide.finder, the stepper's memory, the bodies, the settings and the World's
+    guards (:class:`Coaster`).
+    Returns the number of steps done, the state after them, the records of the states before
+    each, the contact set and each step's contacts and forces, and the memory to write back."""
+    tol, groups, apart, rows, start, body, owner, compound, cand, inputs, nkeys, width = finder
+    held_table, guess_keys, guess_clamped = memory
+    (radii, moving, gravity, restitution, mass, inv_mass, fixed, free_acc, step_inv_mass,
+     half_width, switches) = bodies  # fmt: skip
+    method, lcp_tol, dense, rounds, touch, creep, fast_pair, wrap = numbers
+    (penetration, segments, arcs, moved_rows, inner, hollow, energy0, energy_limit, e_mass,
+     e_inertia, gx, gy) = guards  # fmt: skip
+    n, steps = q.shape[0], h.size
+    clock, energies, min_gaps, losses = (
+        np.empty(steps),
+        np.empty(steps),
+        np.empty(steps),
+        np.empty(steps),
+    )
+    poses, velocities = np.empty((steps, n, 3)), np.empty((steps, n, 3))
+    momenta = np.empty((steps, 2))
+    everyone = np.ones(n, np.bool_)
+    keys = np.zeros(0, np.int64)
+    held = np.zeros(0, np.bool_)
+    before = held
+    guess_memory = held
+    touched = held
+    kind = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
+            np.zeros((0, 7)), np.zeros((0, 4), np.int64))  # fmt: skip
+    gaps, forces_out = np.empty((0, 0)), np.empty((0, 0))
+    points, normals = np.empty((0, 0, 2)), np.empty((0, 0, 2))
+    resting_out = np.empty((0, 0), np.bool_)
+    evaluations = 0
+    done = 0
+    for i in range(steps):
+        hi = h[i]
+        if times[i] - t != hi:  # (World.step's dt: the next grid time minus the time now)
+            break
+        # 1. the contacts that can close within h (runtime.collide.finder.find)
+        margin = np.empty(n)
+        _margins(v, hi, radii, moving, gravity, margin)
+        if _first_bad_margin(margin) >= 0:
+            break
+        if compound:
+            p, widen, allow = q[owner], margin[owner], everyone[owner]
+        else:
+            p, widen, allow = q, margin, everyone
+        count = find_candidates(p, tol, widen, allow, groups, apart, rows, start, body, owner,
+                                compound, cand, inputs)  # fmt: skip
+        if count < 0 or count > cand.shape[0]:
+            break
+        b1, b2, geometry_c, members, case_start = inputs
+        gap = np.empty(count)
+        if candidate_gaps(p, b1, b2, geometry_c, members, case_start, gap) != count:
+            break
+        out = (np.empty(count, np.int64), np.empty(count, np.int64), np.empty(count, np.int64),
+               np.empty((count, 7)), np.empty((count, 4), np.int64), np.empty((count, 2)),
+               np.empty((count, 2)))  # fmt: skip
+        m = select(p, tol, widen, body, cand, count, b1, b2, gap, out) if count else 0
+        case, one, two = out[0][:m], out[1][:m], out[2][:m]
+        geometry, feature, point, normal = out[3][:m], out[4][:m], out[5][:m], out[6][:m]
+        gap = gap[:m]
+        if compound:
+            one, two = owner[one], owner[two]
+        found = _packed(one, two, feature, nkeys, width)
+        if i == 0:  # the set of this stretch, and the memory the stepper has of it
+            keys = found
+            held = _looked_up(keys, held_table, np.ones(0, np.bool_))
+            guess_memory = _looked_up(keys, guess_keys, guess_clamped)
+            touched = np.zeros(m, np.bool_)
+            kind = (case, one, two, geometry, feature)
+            gaps, forces_out = np.empty((steps, m)), np.empty((steps, m))
+            points, normals = np.empty((steps, m, 2)), np.empty((steps, m, 2))
+            resting_out = np.empty((steps, m), np.bool_)
+        elif m != keys.size or not np.all(found == keys):
+            break
+        # 2-4. the frame: classify, impacts, settle, resting forces (runtime.step.stepper; with
+        # no contacts, the general path's frame: gravity alone)
+        static2 = fixed[two]
+        guess = guess_memory.copy()
+        start_v = v.copy()
+        frame_gap, rate, bias = np.empty(m), np.empty(m), np.empty(m)
+        jac = np.empty((m, 6))
+        modes = np.empty(m, np.int64)
+        impulses, forces, rates = np.zeros(m), np.zeros(m), np.zeros(m)
+        acc = free_acc.copy()
+        order, offsets, labels = (
+            np.empty(m, np.int64),
+            np.zeros(m + 1, np.int64),
+            np.empty(m, np.int64),
+        )
+        counts = np.zeros(2, np.int64)
+        loss = 0.0
+        if m:
+            lim = (limits[i, 0], limits[i, 1], limits[i, 2], limits[i, 3], limits[i, 4])
+            ok, loss = settle_frame(
+                q, case, one, two, geometry, static2, held, held, restitution, mass, inv_mass,
+                fixed, free_acc, lim, lcp_tol, dense, rounds, start_v, frame_gap, rate, jac,
+                bias, modes, impulses, guess, forces, rates, acc, (order, offsets, labels, counts),
+            )  # fmt: skip
+            if not ok or np.any(modes == LIFTING):
+                break
+        rest = order[: counts[0]]
+        # 5. the trial with the resting contacts' forces, each island its own
+        q1, v1 = np.empty_like(q), np.empty_like(v)
+        if not step(method, q, start_v, hi, acc, case[rest], one[rest], two[rest],
+                    np.ascontiguousarray(geometry[rest]), static2[rest], offsets[: counts[1]],
+                    guess[rest], step_inv_mass, fixed, free_acc, lcp_tol, dense, q1, v1):  # fmt: skip
+            break
+        # 6. nothing for the event search to find
+        if not is_quiet(q, q1, v1, margin, radii, half_width, switches, case, one, two,
+                        geometry, static2, modes, frame_gap, rate, touch, creep, fast_pair):  # fmt: skip
+            break
+        # the World's guards (runtime.step.world), its energy and angle wrap
+        min_gap = frame_gap.min() if m else np.inf
+        if penetration > 0.0 and _deepest_relative(frame_gap, one, two, radii) > penetration:
+            break
+        if not (np.all(np.isfinite(q1)) and np.all(np.isfinite(v1))):
+            break
+        if penetration > 0.0 and (  # (a centre through a fixed edge, or through a body)
+            _crossing(q, q1, moved_rows, segments, arcs)[0] >= 0
+            or _passed_through(q, q1, inner, hollow)[0] >= 0
+        ):
+            break
+        e1 = _kinetic(e_mass, e_inertia, v1) - _lifted(e_mass, gx, gy, q1)
+        if e1 - energy0 > energy_limit or _far_angle(q1, wrap):
+            break
+        # the record of the state before the step, and the step taken
+        clock[i], energies[i], min_gaps[i], losses[i] = t, energy, min_gap, loss
+        poses[i], velocities[i] = q, v
+        momenta[i] = _momentum(e_mass, v)
+        gaps[i], points[i], normals[i], forces_out[i] = gap, point, normal, forces
+        for k in range(m):
+            resting_out[i, k] = modes[k] == RESTING
+        for k in rest:
+            guess_memory[k] = guess[k]
+            touched[k] = True
+        before = held
+        held = (modes == RESTING) | (modes == LIFTING)
+        q, v, energy, t = q1, v1, e1, t + hi
+        evaluations += 3 if method == 2 else method
+        done += 1
+    return (done, t, q, v, energy, evaluations,
+            (clock, poses, velocities, energies, momenta, min_gaps, losses),
+            kind, (gaps, points, normals, forces_out, resting_out),
+            (keys, held, before, guess_memory, touched))  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Stretch:
+    """The records of the steps a coast did (one per step, the state before it): as a Run's
+    arrays, and each step's contacts (one set; its gaps, points, normals per step) and forces."""
+
+    t: np.ndarray
+    poses: np.ndarray
+    velocities: np.ndarray
+    energy: np.ndarray
+    momentum: np.ndarray
+    min_gap: np.ndarray
+    impact_loss: np.ndarray
+    kind: tuple  # case, body1, body2, geometry, feature of the contact set (read-only)
+    gap: np.ndarray  # (steps, m) each step's contacts' gaps, points (steps, m, 2), normals
+    point: np.ndarray
+    normal: np.ndarray
+    forces: np.ndarray  # (steps, m): 0 where a contact does not rest
+    resting: np.ndarray  # (steps, m) bool
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def contacts(self, i: int) -> tuple[Contacts, np.ndarray]:
+        """The resting contacts at record i and their forces (what runtime.step.stepper's
+        first frame records)."""
+        every = Contacts(*self.kind, self.gap[i], self.point[i], self.normal[i])
+        rest = self.resting[i]
+        if rest.all():
+            return every, self.forces[i]
+        return every.take(rest), self.forces[i][rest]
+
+
+class Coaster:
+    """A World's compiled loop over quiet steps (see the module docstring): its fixed arguments,
+    when to try it, and the World and stepper it brings up to date."""
+
+    def __init__(self, world) -> None:
+        stepper = world.stepper
+        finder = stepper.collision.finder
+        self.world = world
+        self.batch = int(min(BATCH, max(1, RECORD_BYTES // (48 * stepper.n))))  # steps a call
+        self._call = Bound(coast)
+        self._wait = self._patience = 0
+        t = finder.tables
+        self._finder = (
+            _tolerance(stepper.collision.tolerance), finder._unit_groups, finder.apart, t.rows,
+            t.start, t.body, t.owner, finder.compound,
+        )  # fmt: skip
+        b = stepper.bodies
+        self._bodies = (
+            stepper.radii, stepper.moving, float(stepper.gravity), b.restitution, b.mass,
+            b.inverse_mass, b.fixed, stepper.forces.free_acceleration,
+            stepper.forces.inverse_mass, stepper.events.half_width, stepper.events.switches,
+        )  # fmt: skip
+        self._numbers = (
+            METHOD_ID[stepper.method], settings.LCP_TOL, settings.DENSE_ISLAND,
+            settings.SETTLE_ROUNDS, float(stepper.touch),
+            settings.CREEP * stepper.resting_speed, settings.FAST_PAIR, settings.ANGLE_WRAP,
+        )  # fmt: skip
+        guards = world.guards
+        edges = world._edges  # (None: no penetration guard)
+        none = np.zeros((0, 5)), np.zeros((0, 6))
+        mass, inertia = world._masses
+        gx, gy = world.scene.gravity
+        scale = world.energy_scale
+        self._guards = (
+            -1.0 if guards.penetration is None else float(guards.penetration),
+            *(none if edges is None else (edges.segments, edges.arcs)),
+            world._moving, world._inner, world._hollow, float(world.energy0),
+            guards.energy_growth * scale if scale > 0 else math.inf,
+            mass, inertia, float(gx), float(gy),
+        )  # fmt: skip
+
+    @staticmethod
+    def applies(world) -> bool:
+        """Whether a World's steps can coast: the compiled path, with int64 contact keys."""
+        stepper = world.stepper
+        return stepper.compiled and stepper.collision.finder.keys.packed
+
+    def ready(self, quiet: bool) -> bool:
+        """Whether to try after a step that was (or was not) ``quiet``: after an attempt that did
+        no step, the next 1, 2, 4, ... PATIENCE quiet steps go one by one first."""
+        if not quiet:
+            return False
+        if self._wait:
+            self._wait -= 1
+            return False
+        return True
+
+    def run(self, times: np.ndarray) -> Stretch | None:
+        """Step the World to each of ``times`` (grid times after its own, in order) while the
+        steps are quiet; the records of those done (None: none)."""
+        world, stepper = self.world, self.world.stepper
+        h = np.diff(np.concatenate(([world.t], times)))
+        distinct, which = np.unique(h, return_inverse=True)  # a few values, by rounding
+        limits = np.array([_fields(stepper.limits(float(x))) for x in distinct])[which]
+        finder = stepper.collision.finder
+        tables = (
+            *self._finder,
+            finder._candidates,
+            finder._kernel_inputs,
+            finder.keys.n,
+            finder.keys.width,
+        )  # fmt: skip  (the buffers: the finder may have grown them)
+        memory = stepper.forces.memory
+        with np.errstate(all="ignore"):
+            done, t, q, v, energy, evaluations, records, kind, contacts, written = self._call(
+                times, h, limits, world.t, world.poses, world.velocities, float(world.energy()),
+                tables, (stepper.held, memory.keys, memory.clamped), self._bodies,
+                self._numbers, self._guards,
+            )  # fmt: skip
+        if done == 0:
+            self._patience = min(max(2 * self._patience, 1), PATIENCE)
+            self._wait = self._patience
+            return None
+        self._patience = 0
+        keys, held, before, guesses, touched = written
+        recent = stepper.held if done == 1 else key_set(keys[before])
+        stepper.held, stepper.recent = key_set(keys[held]), recent
+        memory.update(keys[touched], guesses[touched])
+        stepper.evaluations += evaluations
+        clock, poses, velocities, energies, momenta, min_gaps, losses = (r[:done] for r in records)
+        world.advanced(t, q, v, energy, done, (clock[-1], poses[-1], velocities[-1], h[done - 1]))
+        for a in kind:
+            a.flags.writeable = False
+        gap, point, normal, forces, resting = (a[:done] for a in contacts)
+        return Stretch(clock, poses, velocities, energies, momenta, min_gaps, losses, kind,
+                       gap, point, normal, forces, resting)  # fmt: skip
+
+
+def _fields(limits) -> tuple[float, float, float, float, float]:
+    return (limits.touch, limits.hold_gap, limits.resting_speed, limits.separation_speed,
+            limits.creep_speed)  # fmt: skip
+
+
+__all__ = ["BATCH", "Coaster", "Stretch", "coast"]

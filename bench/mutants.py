@@ -54,6 +54,8 @@ GUESS = "tests/runtime/test_warm_guess.py tests/runtime/test_physics.py tests/ru
 COMPOUND = "tests/runtime/test_compound.py tests/runtime/test_shapes.py tests/runtime/test_scene.py"
 QUIET = "runtime/step/quiet.py"
 QUIETS = "tests/runtime/test_quiet_step.py"
+COAST = "runtime/step/coast.py"
+COASTS = "tests/runtime/test_coast.py"
 
 # fmt: off
 MUTANTS: list[Mutant] = [
@@ -141,6 +143,9 @@ MUTANTS: list[Mutant] = [
     Mutant("quiet:crossing-not-seen", QUIET, "if g1 <= floor:", "if g1 <= floor and g0 <= floor:", QUIETS, "only contacts touching at the start are checked for a crossing: an open one that closed within the step counts as quiet, its impact never located"),
     Mutant("quiet:dip-not-seen", QUIET, "v0 < 0.0 and v1k > -creep", "v0 < 0.0 and v1k > 1.0", QUIETS, "an open contact approaching at the start and receding at the end counts as quiet: a dip below d = 0 between the ends missed"),
     Mutant("quiet:margin-not-checked", QUIET, "moved <= margin[i] and moved", "moved", QUIETS, "a body that outran its margin counts as quiet: contacts beyond the swept ones never watched"),
+    Mutant("coast:set-not-compared", COAST, "elif m != keys.size or not np.all(found == keys):", "elif m != keys.size:", COASTS, "a stretch goes on when a contact gave way to another: the held flags and warm-start guesses of the old set used for the new one"),
+    Mutant("coast:lifting-coasted", COAST, "if not ok or np.any(modes == LIFTING):", "if not ok:", COASTS, "a step with a lifting contact coasts: its record misses the lifting contact's force, which World.step solves for it"),
+    Mutant("coast:memory-not-written", COAST, "memory.update(keys[touched], guesses[touched])", "memory.update(keys[:0], guesses[:0])", COASTS, "the warm-start guesses of a stretch are not written back: the steps after it start from older ones"),
     Mutant("bound:writability-not-keyed", "runtime/compiled.py", "a.flags.c_contiguous, a.flags.writeable)", "a.flags.c_contiguous)", "tests/runtime/test_bound.py", "a read-only array shares the entry of a writable one (numba types them apart)"),
     Mutant("assembly:island-matrix-half", ASSEMBLY, "if a != b or side_a != side_b:", "if side_a != side_b:", "tests/runtime/test_warm_guess.py " + IMPACTS, "A of several contacts on one body: a pair on the same side of it filled on one side of the diagonal"),
 ]

@@ -4,6 +4,9 @@ The recorded grid is t = k dt, exactly (the last step shortened so the run ends 
 impacts located inside steps are listed in ``Run.impact_times``. Each record holds the state at
 its time and the contacts resting there (with lifting ones) and their forces, as solved at the
 start of the step that follows (the last record: at the final state).
+
+Quiet steps (the same contacts, nothing located) go in stretches through one compiled loop
+(runtime.step.coast), which writes their records as arrays; the run is the same, bit for bit.
 """
 
 from __future__ import annotations

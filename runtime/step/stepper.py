@@ -20,6 +20,9 @@ One step of length h from (q, v), for the bodies of one island (at first: all of
 7. accept      -- islands without an event take the trial's end state; each island with one is
                   integrated to its event alone and goes to 1 with the rest of the step.
 
+A step whose trial is quiet (runtime.step.quiet) ends at 5; `simulate` steps stretches of such
+steps, with the same contacts, in one compiled loop of these same stages (runtime.step.coast).
+
 So an impact in one corner of a scene sub-steps only its island. An impulse can send a body
 farther than its reach in step 1; then the islands are not independent any more, and the step
 is done again with every body in one island (:class:`_Merge`), which is always correct.

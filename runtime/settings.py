@@ -128,6 +128,12 @@ LCP_SPARSE_DENSITY = 0.2  # fraction of non-zeros above which a large island is 
 
 COMPILED = True  # use the compiled frame and integrator stages where they apply (small islands,
 # fixed-step methods); False runs every stage the general way (the same results to rounding)
+COAST_BATCH = 256  # steps: `simulate` coasts quiet stretches (runtime.step.coast) in calls of
+# at most this many steps (a Ctrl-C waits for the call: ~5 ms for a small scene)
+COAST_RECORD_BYTES = 4_000_000  # and of at most about this much of records (poses, velocities)
+COAST_PATIENCE = 64  # quiet steps: after an attempt that did no step, the next 1, 2, 4, ... up to
+# this many quiet steps go one by one (a pile whose contacts change at every step would pay its
+# frame twice at each)
 DENSE_ISLAND = 128  # contacts: islands up to this size are assembled and solved dense in one
 # compiled call (an A_CC Cholesky of 48 rows costs ~20 us); larger ones go sparse
 

@@ -7,8 +7,9 @@ and for those the Python decides nothing. This loop takes the same compiled stag
 order -- the contact finder's three stages (runtime.collide.finder), the frame
 (runtime.step.compiled_frame), the trial (runtime.step.compiled_stages), the quiet check
 (runtime.step.quiet), the World's guards, energy and momentum -- and writes each step's record
-into arrays. It stops before the first step that is not such a step: another contact set, a frame or trial the compiled stages decline, a lifting contact (its record needs a
-solve of its own), a trial that is not quiet, a guard that trips, an angle to wrap. World.step
+into arrays. It stops before the first step that is not such a step: another contact set, a
+frame or trial the compiled stages decline, a lifting contact (its record needs a solve of its
+own), a trial that is not quiet, a guard that trips, an angle to wrap. World.step
 then does that step the usual way, and names a failure. So a coasted step is the same step, to
 the bit (tests/runtime/test_coast.py), and the World's memory after a stretch (the contacts
 held, the warm-start guesses) is what the steps one by one leave.
@@ -36,11 +37,6 @@ from runtime.step.compiled_stages import METHOD_ID, step
 from runtime.step.guards import _crossing, _passed_through
 from runtime.step.quiet import is_quiet
 from runtime.step.world import _far_angle, _kinetic, _lifted, _momentum
-
-BATCH = 256  # steps a call may do at most (a Ctrl-C waits for a call: ~5 ms for a small scene)
-RECORD_BYTES = 4_000_000  # and at most about this much of records (poses and velocities)
-PATIENCE = 64  # quiet steps skipped at most after an attempt that did no step (a pile whose
-# contacts change every step would otherwise pay its frame twice at every quiet step)
 
 
 @njit
@@ -224,6 +220,7 @@ class Stretch:
     normal: np.ndarray
     forces: np.ndarray  # (steps, m): 0 where a contact does not rest
     resting: np.ndarray  # (steps, m) bool
+    every: list[bool]  # per step: whether every contact rests
 
     def __len__(self) -> int:
         return len(self.t)
@@ -232,9 +229,9 @@ class Stretch:
         """The resting contacts at record i and their forces (what runtime.step.stepper's
         first frame records)."""
         every = Contacts(*self.kind, self.gap[i], self.point[i], self.normal[i])
-        rest = self.resting[i]
-        if rest.all():
+        if self.every[i]:
             return every, self.forces[i]
+        rest = self.resting[i]
         return every.take(rest), self.forces[i][rest]
 
 
@@ -246,7 +243,8 @@ class Coaster:
         stepper = world.stepper
         finder = stepper.collision.finder
         self.world = world
-        self.batch = int(min(BATCH, max(1, RECORD_BYTES // (48 * stepper.n))))  # steps a call
+        records = settings.COAST_RECORD_BYTES // (48 * stepper.n)  # 48 bytes: a body's q and v
+        self.batch = int(min(settings.COAST_BATCH, max(1, records)))  # steps a call at most
         self._call = Bound(coast)
         self._wait = self._patience = 0
         t = finder.tables
@@ -287,7 +285,7 @@ class Coaster:
 
     def ready(self, quiet: bool) -> bool:
         """Whether to try after a step that was (or was not) ``quiet``: after an attempt that did
-        no step, the next 1, 2, 4, ... PATIENCE quiet steps go one by one first."""
+        no step, the next 1, 2, 4, ... settings.COAST_PATIENCE quiet steps go one by one."""
         if not quiet:
             return False
         if self._wait:
@@ -318,7 +316,7 @@ class Coaster:
                 self._numbers, self._guards,
             )  # fmt: skip
         if done == 0:
-            self._patience = min(max(2 * self._patience, 1), PATIENCE)
+            self._patience = min(max(2 * self._patience, 1), settings.COAST_PATIENCE)
             self._wait = self._patience
             return None
         self._patience = 0
@@ -333,7 +331,7 @@ class Coaster:
             a.flags.writeable = False
         gap, point, normal, forces, resting = (a[:done] for a in contacts)
         return Stretch(clock, poses, velocities, energies, momenta, min_gaps, losses, kind,
-                       gap, point, normal, forces, resting)  # fmt: skip
+                       gap, point, normal, forces, resting, resting.all(axis=1).tolist())  # fmt: skip
 
 
 def _fields(limits) -> tuple[float, float, float, float, float]:
@@ -341,4 +339,4 @@ def _fields(limits) -> tuple[float, float, float, float, float]:
             limits.creep_speed)  # fmt: skip
 
 
-__all__ = ["BATCH", "Coaster", "Stretch", "coast"]
+__all__ = ["Coaster", "Stretch", "coast"]

@@ -34,6 +34,7 @@ from runtime.step.world import (
 if TYPE_CHECKING:
     from runtime.step.coast import Stretch
 
+_RUN_NAMES = {"loss": "impact_losses", "joints": "joint_forces"}  # the recorder's names -> Run's
 _NO_JOINTS = np.zeros(0)  # a record's joint forces in a scene without joints (never written)
 
 __all__ = [
@@ -105,7 +106,10 @@ class Run:
 
 
 class _Recorder:
-    """Lists while running; a Run of arrays at the end (also of a failed run)."""
+    """Lists while running, blocks of arrays from stretches of coasted steps (runtime.step.
+    coast); a Run of arrays at the end (also of a failed run)."""
+
+    FIELDS = ("t", "poses", "velocities", "energy", "momentum", "min_gap", "loss", "joints")
 
     def __init__(self, scene, method: str, dt: float, joint_names=()) -> None:
         self.run = Run(scene.name, method, dt, [b.name for b in scene.bodies])
@@ -113,53 +117,64 @@ class _Recorder:
         self.n = len(scene.bodies)
         self.scene = scene
         self.masses = body_masses(scene)
-        self.rows: dict[str, list] = {
-            k: []
-            for k in ("t", "poses", "velocities", "energy", "momentum", "min_gap", "loss", "joints")
-        }
+        self.rows: dict[str, list] = {k: [] for k in self.FIELDS}  # records one by one
+        self.blocks: list[dict[str, np.ndarray]] = []  # ... and before them, as arrays
 
     def add(self, state: tuple, frame, recorded, forces, tangent, loss: float, joints=None) -> None:
         """One record: ``state`` = (t, poses, velocities, energy) and the frame at that time;
         ``tangent``: the friction forces, None without a friction stage; ``joints``: the joint
         rows' forces, None without joints."""
         t, poses, velocities, energy = state
-        every = len(recorded) == len(frame.contacts)  # recorded: sorted, distinct indices
-        contacts = frame.contacts if every else frame.contacts.take(recorded)
-        momentum = linear_momentum(self.scene, velocities, self.masses)
-        state = (t, poses.copy(), velocities.copy(), energy, momentum, frame.min_gap)
-        self._append(state, contacts, forces, tangent, loss, joints)
-
-    def add_coasted(self, stretch: Stretch, i: int, loss: float) -> None:
-        """Record i of a stretch of coasted steps (runtime.step.coast)."""
-        s = stretch
-        state = (s.t[i], s.poses[i], s.velocities[i], s.energy[i], s.momentum[i], s.min_gap[i])
-        self._append(state, *s.contacts(i), None, loss, None)
-
-    def _append(self, state: tuple, contacts, forces, tangent, loss: float, joints) -> None:
         r = self.rows
-        for name, value in zip(("t", "poses", "velocities", "energy", "momentum", "min_gap"),
-                               state, strict=True):  # fmt: skip
-            r[name].append(value)
+        r["t"].append(t)
+        r["poses"].append(poses.copy())
+        r["velocities"].append(velocities.copy())
+        r["energy"].append(energy)
+        r["momentum"].append(linear_momentum(self.scene, velocities, self.masses))
+        r["min_gap"].append(frame.min_gap)
         r["loss"].append(loss)
-        self.run.contacts.append(contacts)
-        self.run.contact_forces.append(np.asarray(forces, dtype=float))
-        friction = np.zeros(len(forces)) if tangent is None else np.asarray(tangent, dtype=float)
-        self.run.friction_forces.append(friction)
         rows = len(self.run.joint_names)
         r["joints"].append(_NO_JOINTS if not rows else
                            np.full(rows, np.nan) if joints is None else joints[:rows])  # fmt: skip
+        every = len(recorded) == len(frame.contacts)  # recorded: sorted, distinct indices
+        contacts = frame.contacts if every else frame.contacts.take(recorded)
+        friction = None if tangent is None else np.asarray(tangent, dtype=float)
+        self._contacts(contacts, np.asarray(forces, dtype=float), friction)
+
+    def add_coasted(self, stretch: Stretch, picks: list[int], losses: list[float]) -> None:
+        """The records ``picks`` of a stretch of coasted steps, with the impact losses since
+        the record before each (a stretch has no joints and no friction)."""
+        self._flush()
+        s = stretch
+        block = {"t": s.t, "poses": s.poses, "velocities": s.velocities, "energy": s.energy,
+                 "momentum": s.momentum, "min_gap": s.min_gap}  # fmt: skip
+        block = {name: values[picks] for name, values in block.items()}
+        block["loss"] = np.asarray(losses, dtype=float)
+        block["joints"] = np.zeros((len(picks), len(self.run.joint_names)))
+        self.blocks.append(block)
+        for i in picks:
+            self._contacts(*s.contacts(i), None)
+
+    def _contacts(self, contacts, forces: np.ndarray, friction) -> None:
+        self.run.contacts.append(contacts)
+        self.run.contact_forces.append(forces)
+        self.run.friction_forces.append(np.zeros(len(forces)) if friction is None else friction)
+
+    def _flush(self) -> None:
+        """The records one by one so far as a block."""
+        if self.rows["t"]:
+            self.blocks.append({k: np.asarray(v, dtype=float) for k, v in self.rows.items()})
+            self.rows = {k: [] for k in self.FIELDS}
 
     def finish(self, world: World, wall: float) -> Run:
-        r, run, n = self.rows, self.run, self.n
-        run.t = np.asarray(r["t"], dtype=float)
-        run.poses = np.asarray(r["poses"], dtype=float).reshape(-1, n, 3)
-        run.velocities = np.asarray(r["velocities"], dtype=float).reshape(-1, n, 3)
-        run.energy = np.asarray(r["energy"], dtype=float)
-        run.momentum = np.asarray(r["momentum"], dtype=float).reshape(-1, 2)
-        run.min_gap = np.asarray(r["min_gap"], dtype=float)
-        run.impact_losses = np.asarray(r["loss"], dtype=float)
-        rows = len(run.joint_names)
-        run.joint_forces = np.asarray(r["joints"], dtype=float).reshape(len(r["t"]), rows)
+        self._flush()
+        run, n, rows = self.run, self.n, len(self.run.joint_names)
+        tail = {"poses": (n, 3), "velocities": (n, 3), "momentum": (2,), "joints": (rows,)}
+        for k in self.FIELDS:
+            shape = tail.get(k, ())
+            values = [b[k].reshape(len(b["t"]), *shape) for b in self.blocks]
+            setattr(run, _RUN_NAMES.get(k, k),
+                    np.concatenate(values) if values else np.zeros((0, *shape)))  # fmt: skip
         run.impact_times = np.asarray(world.impact_times, dtype=float)
         run.rhs_evaluations = world.stepper.evaluations
         run.wall_time = wall
@@ -234,14 +249,16 @@ def simulate(
             if coaster is not None and coaster.ready(quiet):  # quiet steps in one compiled loop
                 ahead = np.arange(k + 1, min(k + coaster.batch, steps) + 1)
                 stretch = coaster.run(np.where(ahead >= steps, duration, ahead * dt))
-                done = 0 if stretch is None else len(stretch)
-                for i in range(done):
-                    if (k + i) % record_every == 0:
-                        recorder.add_coasted(stretch, i, lost)
-                        lost = 0.0
-                    lost += stretch.impact_loss[i]
-                k, quiet = k + done, done == len(ahead)
-                if done:
+                if stretch is not None:
+                    picks, losses = [], []
+                    for i, loss in enumerate(stretch.impact_loss.tolist()):
+                        if (k + i) % record_every == 0:
+                            picks.append(i)
+                            losses.append(lost)
+                            lost = 0.0
+                        lost += loss
+                    recorder.add_coasted(stretch, picks, losses)
+                    k, quiet = k + len(stretch), len(stretch) == len(ahead)
                     if progress is not None:
                         progress(min(1.0, k / steps))
                     continue

@@ -13,7 +13,8 @@ whole steps of `runtime.simulate` on piles of discs built with `runtime.scene_fr
 
 Runs are cut into chunks of `simulate` calls, each continuing from the last state, so that a
 pile stops after its time budget however slow its steps turn out. The time of each step comes
-from `simulate`'s progress callback, its contacts from `Run.contacts` (the resting set that
+from `simulate`'s progress callback (the steps of a stretch it coasts in one compiled call share
+the stretch's time evenly), its contacts from `Run.contacts` (the resting set that
 enters the LCP).
 
     python -m bench.steps            # rewrites the "## Steps" section of bench/README.md
@@ -40,6 +41,7 @@ import numpy as np
 import runtime
 from bench.machine import cpu
 from bench.markdown import replace_section
+from runtime.app.estimate import per_step_times
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "bench" / "README.md"
@@ -124,11 +126,12 @@ def continued(scene, poses: np.ndarray, velocities: np.ndarray):
     return nxt
 
 
-def _chunk(scene, steps: int, stamps: list[float]) -> tuple[list[int], object]:
-    """`steps` steps of `simulate`, appending the wall-clock time after each step to `stamps`
-    (which holds the start); returns the resting contacts of each step and the run."""
+def _chunk(scene, steps: int, marks: list[tuple[float, float]]) -> tuple[list[int], object]:
+    """`steps` steps of `simulate`, appending (wall-clock time, fraction done) at each report
+    of progress to `marks` (which holds the start; runtime.app.estimate.per_step_times gives
+    each step's time); returns the resting contacts of each step and the run."""
     run = runtime.simulate(
-        scene, steps * DT, DT, METHOD, progress=lambda _f: stamps.append(time.perf_counter())
+        scene, steps * DT, DT, METHOD, progress=lambda f: marks.append((time.perf_counter(), f))
     )
     return [len(c) for c in run.contacts[:steps]], run
 
@@ -164,28 +167,28 @@ def time_pile(n: int, kind: str, budget: float = BUDGET) -> PileTiming:
     keep their times but not their contacts (those were in the lost `Run`), and the time
     already spent in the unfinished step is kept as a lower bound."""
     scene = pile_scene(n, drop=GAP if kind == "falling" else 0.0)
-    warm_up = [time.perf_counter()]
+    warm_up = [(time.perf_counter(), 0.0)]
     _chunk(scene, 1, warm_up)
     times: list[float] = []
     contacts: list[int] = []
-    stamps: list[float] = []
-    unfinished = 0.0
-    start, estimate = time.perf_counter(), warm_up[-1] - warm_up[0]  # an overestimate
+    marks: list[tuple[float, float]] = []
+    steps, unfinished = 1, 0.0
+    start, estimate = time.perf_counter(), warm_up[-1][0] - warm_up[0][0]  # an overestimate
     try:
         with deadline(budget):
             while len(times) < MAX_STEPS[kind]:
                 left = min(CHUNK_TIME, budget - (time.perf_counter() - start))
                 steps = int(np.clip(left / estimate, 1, MAX_STEPS[kind] - len(times)))
-                stamps = [time.perf_counter()]
-                chunk_contacts, run = _chunk(scene, steps, stamps)
-                chunk_times = np.diff(stamps).tolist()
+                marks = [(time.perf_counter(), 0.0)]
+                chunk_contacts, run = _chunk(scene, steps, marks)
+                chunk_times = per_step_times(marks, steps)
                 times += chunk_times
                 contacts += chunk_contacts
                 estimate = max(float(np.mean(chunk_times)), 1e-4)  # the mean: impacts are slow
                 scene = continued(scene, run.poses[-1], run.velocities[-1])
     except OutOfTime:
-        unfinished = time.perf_counter() - stamps[-1] if stamps else 0.0
-        cut = np.diff(stamps).tolist()  # the cut chunk's finished steps: times known,
+        unfinished = time.perf_counter() - marks[-1][0] if marks else 0.0
+        cut = per_step_times(marks, steps)  # the cut chunk's finished steps: times known,
         times += cut  # contacts not (they were in its Run)
         contacts += [-1] * len(cut)
     return PileTiming(n, kind, np.array(times), np.array(contacts), unfinished)

@@ -23,7 +23,7 @@ from typing import Any
 from runtime import settings
 from runtime.app.text import human_bytes, human_seconds
 
-__all__ = ["Estimate", "probe", "warning"]
+__all__ = ["Estimate", "per_step_times", "probe", "warning"]
 
 
 @dataclass(frozen=True)
@@ -50,23 +50,35 @@ class _ProbeDone(Exception):
 
 def _timed(scene: Any, dt: float, method: str, steps: int) -> list[float]:
     """Wall time of each step of a short run (at most PROBE_SECONDS after the first step, which
-    also sets up the engine: compiled code loaded, or compiled on a fresh machine)."""
+    also sets up the engine: compiled code loaded, or compiled on a fresh machine). A stretch of
+    steps that `simulate` coasts in one call (runtime.step.coast) reports its progress once:
+    each of its steps counts its share of the stretch's time."""
     import runtime
 
-    stamps: list[float] = []
+    marks: list[tuple[float, float]] = [(time.perf_counter(), 0.0)]  # (time, fraction done)
 
-    def tick(_fraction: float) -> None:
-        stamps.append(time.perf_counter())
-        if len(stamps) > steps or stamps[-1] - stamps[1] > settings.PROBE_SECONDS:
+    def tick(fraction: float) -> None:
+        marks.append((time.perf_counter(), fraction))
+        if marks[-1][0] - marks[1][0] > settings.PROBE_SECONDS:
             raise _ProbeDone
 
     off = runtime.Guards(penetration=None, energy_growth=None)
-    stamps.append(time.perf_counter())
     try:
         runtime.simulate(scene, steps * dt, dt, method, progress=tick, guards=off)
     except (_ProbeDone, runtime.SimulationError):
         pass
-    return list(map(float, (b - a for a, b in zip(stamps, stamps[1:], strict=False))))
+    return per_step_times(marks, steps)
+
+
+def per_step_times(marks: list[tuple[float, float]], steps: int) -> list[float]:
+    """Wall time of each step of a run of ``steps`` steps from its progress ``marks`` ((time,
+    fraction done), the first at the start): the steps of a stretch that `simulate` coasted in
+    one call (runtime.step.coast), reported at once, share its time evenly."""
+    times: list[float] = []
+    for (t0, f0), (t1, f1) in zip(marks, marks[1:], strict=False):
+        done = round((f1 - f0) * steps)
+        times += [(t1 - t0) / max(done, 1)] * done
+    return times
 
 
 def _memory_per_step(scene: Any, dt: float, method: str, steps: int) -> float:

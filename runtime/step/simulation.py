@@ -223,7 +223,8 @@ def simulate(
 ) -> Run:
     """Run ``scene`` for ``duration`` seconds in steps of ``dt`` (defaults from the scene's
     [simulation] table; stabilisation too). The last step is shortened when the duration is not
-    a whole number of steps, so the run ends at the duration.
+    a whole number of steps, so the run ends at the duration. ``progress(fraction)`` is called
+    as the run advances: after each step, or once after a stretch of coasted steps.
 
     Raises SimulationError when a step fails (the contact solver, a non-finite state) or a
     guard trips (runtime.step.guards: penetration, tunnelling, energy growth); its ``run``

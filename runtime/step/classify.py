@@ -81,12 +81,22 @@ class Limits:
 
     @classmethod
     def for_step(
-        cls, resting_speed: float, touch: float, tolerance: float, drift: float = 0.0
+        cls, resting_speed: float, touch: float, tolerance: float, h: float, gravity: float
     ) -> Limits:
-        """Hold gap the larger of settings.HOLD touch and ``drift`` (how far the integrator may
-        carry a resting contact off its surface in one step), at most the contact tolerance."""
-        hold = min(max(settings.HOLD * touch, drift), tolerance)
+        """The limits of steps of ``h`` under gravity |g| = ``gravity`` (:func:`hold_gap`)."""
+        hold = hold_gap(float(h), float(gravity), float(touch), float(tolerance))
         return cls(touch, hold, resting_speed, resting_speed, settings.CREEP * resting_speed)
+
+
+@njit
+def hold_gap(h, gravity, touch, tolerance):
+    """The hold gap of steps of h: the larger of settings.HOLD touch and the drift -- a resting
+    contact may drift off a curved surface by settings.DRIFT of the free-fall distance g h^2 / 2
+    in one step and still be held, so large steps do not turn it into an impact every few
+    steps -- at most the contact tolerance. Compiled: the coast (runtime.step.coast) takes it
+    at every step, Limits.for_step once per step length."""
+    drift = settings.DRIFT * 0.5 * gravity * h * h
+    return min(max(settings.HOLD * touch, drift), tolerance)
 
 
 @njit

@@ -31,7 +31,7 @@ from runtime.collide.selection import select
 from runtime.collide.sweep import _margins
 from runtime.compiled import Bound, njit
 from runtime.solve.kernel_set import candidate_gaps
-from runtime.step.classify import LIFTING, RESTING
+from runtime.step.classify import LIFTING, RESTING, hold_gap
 from runtime.step.compiled_frame import settle_frame
 from runtime.step.compiled_stages import METHOD_ID, step
 from runtime.step.guards import _crossing, _passed_through
@@ -51,10 +51,9 @@ def _deepest_relative(gap, body1, body2, radii):
 
 
 @njit
-def coast(times, h, limits, t, q, v, energy, finder, memory, bodies, numbers, guards):  # noqa: C901
-    """Steps to each of ``times`` from (q, v) at time t, of lengths ``h`` (with the contact
-    ``limits`` of each, rows of Limits' fields), while each is a quiet step (see the module
-    docstring). ``finder``, ``memory``, ``bodies``, ``numbers``, ``guards``: the tables of
+def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # noqa: C901
+    """Steps to each of ``times`` from (q, v) at time t, while each is a quiet step (see the
+    module docstring). ``finder``, ``memory``, ``bodies``, ``numbers``, ``guards``: the tables of
     runtime.collide.finder, the stepper's memory, the bodies, the settings and the World's
     guards (:class:`Coaster`).
     Returns the number of steps done, the state after them, the records of the states before
@@ -63,10 +62,11 @@ def coast(times, h, limits, t, q, v, energy, finder, memory, bodies, numbers, gu
     held_table, guess_keys, guess_clamped = memory
     (radii, moving, gravity, restitution, mass, inv_mass, fixed, free_acc, step_inv_mass,
      half_width, switches) = bodies  # fmt: skip
-    method, lcp_tol, dense, rounds, touch, creep, fast_pair, wrap = numbers
+    (method, lcp_tol, dense, rounds, touch, tolerance, resting_speed, creep, fast_pair,
+     wrap) = numbers  # fmt: skip
     (penetration, segments, arcs, moved_rows, inner, hollow, energy0, energy_limit, e_mass,
      e_inertia, gx, gy) = guards  # fmt: skip
-    n, steps = q.shape[0], h.size
+    n, steps = q.shape[0], times.size
     clock, energies, min_gaps, losses = (
         np.empty(steps),
         np.empty(steps),
@@ -89,9 +89,7 @@ def coast(times, h, limits, t, q, v, energy, finder, memory, bodies, numbers, gu
     evaluations = 0
     done = 0
     for i in range(steps):
-        hi = h[i]
-        if times[i] - t != hi:  # (World.step's dt: the next grid time minus the time now)
-            break
+        hi = times[i] - t  # as World.step's dt: the next grid time minus the time now
         # 1. the contacts that can close within h (runtime.collide.finder.find)
         margin = np.empty(n)
         _margins(v, hi, radii, moving, gravity, margin)
@@ -148,7 +146,8 @@ def coast(times, h, limits, t, q, v, energy, finder, memory, bodies, numbers, gu
         counts = np.zeros(2, np.int64)
         loss = 0.0
         if m:
-            lim = (limits[i, 0], limits[i, 1], limits[i, 2], limits[i, 3], limits[i, 4])
+            hold = hold_gap(hi, gravity, touch, tolerance)
+            lim = (touch, hold, resting_speed, resting_speed, creep)  # (Limits.for_step)
             ok, loss = settle_frame(
                 q, case, one, two, geometry, static2, held, held, restitution, mass, inv_mass,
                 fixed, free_acc, lim, lcp_tol, dense, rounds, start_v, frame_gap, rate, jac,
@@ -260,8 +259,9 @@ class Coaster:
         )  # fmt: skip
         self._numbers = (
             METHOD_ID[stepper.method], settings.LCP_TOL, settings.DENSE_ISLAND,
-            settings.SETTLE_ROUNDS, float(stepper.touch),
-            settings.CREEP * stepper.resting_speed, settings.FAST_PAIR, settings.ANGLE_WRAP,
+            settings.SETTLE_ROUNDS, float(stepper.touch), float(stepper.scene.contact_tolerance),
+            float(stepper.resting_speed), settings.CREEP * stepper.resting_speed,
+            settings.FAST_PAIR, settings.ANGLE_WRAP,
         )  # fmt: skip
         guards = world.guards
         edges = world._edges  # (None: no penetration guard)
@@ -297,9 +297,6 @@ class Coaster:
         """Step the World to each of ``times`` (grid times after its own, in order) while the
         steps are quiet; the records of those done (None: none)."""
         world, stepper = self.world, self.world.stepper
-        h = np.diff(np.concatenate(([world.t], times)))
-        distinct, which = np.unique(h, return_inverse=True)  # a few values, by rounding
-        limits = np.array([_fields(stepper.limits(float(x))) for x in distinct])[which]
         finder = stepper.collision.finder
         tables = (
             *self._finder,
@@ -311,7 +308,7 @@ class Coaster:
         memory = stepper.forces.memory
         with np.errstate(all="ignore"):
             done, t, q, v, energy, evaluations, records, kind, contacts, written = self._call(
-                times, h, limits, world.t, world.poses, world.velocities, float(world.energy()),
+                times, world.t, world.poses, world.velocities, float(world.energy()),
                 tables, (stepper.held, memory.keys, memory.clamped), self._bodies,
                 self._numbers, self._guards,
             )  # fmt: skip
@@ -326,17 +323,19 @@ class Coaster:
         memory.update(keys[touched], guesses[touched])
         stepper.evaluations += evaluations
         clock, poses, velocities, energies, momenta, min_gaps, losses = (r[:done] for r in records)
-        world.advanced(t, q, v, energy, done, (clock[-1], poses[-1], velocities[-1], h[done - 1]))
+        world.advanced(
+            t,
+            q,
+            v,
+            energy,
+            done,
+            (clock[-1], poses[-1], velocities[-1], times[done - 1] - clock[-1]),
+        )
         for a in kind:
             a.flags.writeable = False
         gap, point, normal, forces, resting = (a[:done] for a in contacts)
         return Stretch(clock, poses, velocities, energies, momenta, min_gaps, losses, kind,
                        gap, point, normal, forces, resting, resting.all(axis=1).tolist())  # fmt: skip
-
-
-def _fields(limits) -> tuple[float, float, float, float, float]:
-    return (limits.touch, limits.hold_gap, limits.resting_speed, limits.separation_speed,
-            limits.creep_speed)  # fmt: skip
 
 
 __all__ = ["Coaster", "Stretch", "coast"]

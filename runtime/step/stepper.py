@@ -157,13 +157,10 @@ class Stepper:
     # -- stages ----------------------------------------------------------------------------
 
     def limits(self, h: float) -> Limits:
-        """The contact limits for steps of ``h``: a resting contact may drift off a curved
-        surface by settings.DRIFT of the free-fall distance g h^2 / 2 in one step and still be
-        held, so large steps do not turn it into an impact every few steps."""
+        """The contact limits for steps of ``h`` (runtime.step.classify.hold_gap)."""
         if h not in self._limits:
-            drift = settings.DRIFT * 0.5 * self.gravity * h * h
             self._limits[h] = Limits.for_step(
-                self.resting_speed, self.touch, self.scene.contact_tolerance, drift
+                self.resting_speed, self.touch, self.scene.contact_tolerance, h, self.gravity
             )
         return self._limits[h]
 

@@ -298,13 +298,8 @@ class Coaster:
         steps are quiet; the records of those done (None: none)."""
         world, stepper = self.world, self.world.stepper
         finder = stepper.collision.finder
-        tables = (
-            *self._finder,
-            finder._candidates,
-            finder._kernel_inputs,
-            finder.keys.n,
-            finder.keys.width,
-        )  # fmt: skip  (the buffers: the finder may have grown them)
+        buffers = (finder._candidates, finder._kernel_inputs)  # (the finder may grow them)
+        tables = (*self._finder, *buffers, finder.keys.n, finder.keys.width)
         memory = stepper.forces.memory
         with np.errstate(all="ignore"):
             done, t, q, v, energy, evaluations, records, kind, contacts, written = self._call(
@@ -323,14 +318,8 @@ class Coaster:
         memory.update(keys[touched], guesses[touched])
         stepper.evaluations += evaluations
         clock, poses, velocities, energies, momenta, min_gaps, losses = (r[:done] for r in records)
-        world.advanced(
-            t,
-            q,
-            v,
-            energy,
-            done,
-            (clock[-1], poses[-1], velocities[-1], times[done - 1] - clock[-1]),
-        )
+        last = (clock[-1], poses[-1], velocities[-1], times[done - 1] - clock[-1])
+        world.advanced(t, q, v, energy, done, last)
         for a in kind:
             a.flags.writeable = False
         gap, point, normal, forces, resting = (a[:done] for a in contacts)

@@ -116,12 +116,19 @@ def test_a_guard_that_trips_inside_a_stretch_names_the_same_step(monkeypatch):
     assert f"step {sum(coasted) + 1} at" in str(stepping)  # the step after the stretch
 
 
-def test_a_stretch_leaves_the_world_and_its_memory_as_steps_one_by_one():
-    scene = runtime.load_scene(SCENES / "rounded_box_into_bowl.toml")
+@pytest.mark.parametrize(
+    ("name", "before"),
+    [
+        ("rounded_box_into_bowl.toml", 150),  # landed, resting on arcs and corners
+        ("box_on_floor.toml", 0),  # from the start: the memory is empty, the stretch fills it
+    ],
+)
+def test_a_stretch_leaves_the_world_and_its_memory_as_steps_one_by_one(name, before):
+    scene = runtime.load_scene(SCENES / name)
     dt = 0.005
     coasting, stepping = runtime.World(scene), runtime.World(scene)
     for world in (coasting, stepping):
-        for _ in range(150):  # landed and resting on arcs and corners
+        for _ in range(before):
             world.step(dt)
     times = coasting.t + dt * np.arange(1, 41)
     stretch = Coaster(coasting).run(times)
@@ -134,6 +141,7 @@ def test_a_stretch_leaves_the_world_and_its_memory_as_steps_one_by_one():
     assert coasting.energy() == stepping.energy()
     a, b = coasting.stepper, stepping.stepper
     assert np.array_equal(a.held, b.held) and np.array_equal(a.recent, b.recent)
+    assert len(b.forces.memory) > 0
     assert np.array_equal(a.forces.memory.keys, b.forces.memory.keys)
     assert np.array_equal(a.forces.memory.clamped, b.forces.memory.clamped)
     assert a.evaluations == b.evaluations

@@ -34,20 +34,9 @@ from runtime.solve.kernel_set import candidate_gaps
 from runtime.step.classify import LIFTING, RESTING, hold_gap
 from runtime.step.compiled_frame import settle_frame
 from runtime.step.compiled_stages import METHOD_ID, step
-from runtime.step.guards import _crossing, _passed_through
+from runtime.step.guards import _crossing, _passed_through, deepest_relative
 from runtime.step.quiet import is_quiet
 from runtime.step.world import _far_angle, _kinetic, _lifted, _momentum
-
-
-@njit
-def _deepest_relative(gap, body1, body2, radii):
-    """The largest overlap relative to the smaller bounding radius (runtime.step.guards.
-    deepest_overlap), 0 if nothing overlaps."""
-    worst = 0.0
-    for k in range(gap.size):
-        if gap[k] < 0.0:
-            worst = max(worst, -gap[k] / min(radii[body1[k]], radii[body2[k]]))
-    return worst
 
 
 @njit
@@ -168,7 +157,7 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
             break
         # the World's guards (runtime.step.world), its energy and angle wrap
         min_gap = frame_gap.min() if m else np.inf
-        if penetration > 0.0 and _deepest_relative(frame_gap, one, two, radii) > penetration:
+        if penetration > 0.0 and deepest_relative(frame_gap, one, two, radii)[1] > penetration:
             break
         if not (np.all(np.isfinite(q1)) and np.all(np.isfinite(v1))):
             break

@@ -71,10 +71,23 @@ def deepest_overlap(frame, radii: np.ndarray) -> tuple[float, float, int] | None
     overlap relative to body size, or None if nothing overlaps."""
     if not frame.min_gap < 0.0:  # (the frame's, asked once: this runs at every step)
         return None
-    depth = -np.asarray(frame.rows.gap, dtype=float)
-    size = np.minimum(radii[frame.rows.body1], radii[frame.rows.body2])
-    k = int(np.argmax(depth / size))
-    return float(depth[k]), float(depth[k] / size[k]), k
+    gap = np.ascontiguousarray(frame.rows.gap, dtype=float)
+    k, relative = deepest_relative(gap, frame.rows.body1, frame.rows.body2, radii)
+    return float(-gap[k]), float(relative), int(k)
+
+
+@njit
+def deepest_relative(gap, body1, body2, radii):
+    """(index, overlap / the smaller bounding radius) of the contact that overlaps most
+    relative to body size (the first such; (-1, 0.0) if none overlaps): the penetration guard,
+    from World.step and from the coast's loop (runtime.step.coast)."""
+    worst, at = 0.0, -1
+    for k in range(gap.size):
+        if gap[k] < 0.0:
+            relative = -gap[k] / min(radii[body1[k]], radii[body2[k]])
+            if relative > worst:
+                worst, at = relative, k
+    return at, worst
 
 
 @njit

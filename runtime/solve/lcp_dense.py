@@ -50,7 +50,7 @@ from runtime.solve.lcp_baraff import (
     refine,
     residual,
 )
-from runtime.solve.lcp_minnorm import DONE, FAILED, least_norm
+from runtime.solve.lcp_minnorm import DONE, FAILED, least_norm, least_norm_factored
 
 __all__ = ["solve_dense", "solve_dense_counted", "OK", "INFEASIBLE", "STUCK", "NOT_FINITE"]
 __all__ += ["BAD_INPUT", "N_COUNTS"]
@@ -234,18 +234,20 @@ def _warm(S, b, joint, guess, sharp, tol, inv_w, f, L, rows, state, a, tol_a):
     work = np.empty(m)
     k = fac.factor_basis(S, candidates, n, L, rows, _REDUNDANT)
     unique = k == n
+    _solve_clamped(S, b, f, L, rows, k)
     if not unique:  # some guessed rows (nearly) depend on others: the least norm, as last time
-        k = fac.factor_basis(S, candidates, n, L, rows, _DEPENDENT)
-        _solve_clamped(S, b, f, L, rows, k)
-        # a off the guessed rows is the same for every solution over them (A is PSD), so the
-        # basic one tells whether the guess can still hold; only then is its least norm sought
-        # (over a set that no longer holds, the least-norm stage's Newton method runs out its
-        # 100 steps: 9 ms of a landing pile's 88-row island, where pivoting takes 1)
+        # a off the guessed rows is the same for every solution over them (A is PSD), so a
+        # basic one (over the basis of the least-norm stage) tells whether the guess can still
+        # hold; only then is its least norm sought (over a set that no longer holds, the
+        # least-norm stage's Newton method runs out its 100 steps: 9 ms of a landing pile's
+        # 88-row island, where pivoting takes 1)
         if _holds_outside(S, b, f, guess, joint, tol, a, tol_a):
-            if _least_norm(S, b, joint, inv_w, candidates, n, tol, f) == DONE:
+            outcome = least_norm_factored(S, b, joint, inv_w, candidates, n, L, rows, k, tol, f)
+            if outcome == FAILED:  # as _least_norm: then with only the truly dependent rows
+                outcome = least_norm(S, b, joint, inv_w, candidates, n, _DEPENDENT, tol, f)
+            if outcome == DONE:
                 return k, True, True
-            _solve_clamped(S, b, f, L, rows, k)  # (the attempt wrote over f)
-    else:
+        k = fac.factor_basis(S, candidates, n, L, rows, _DEPENDENT)  # for pivoting from here
         _solve_clamped(S, b, f, L, rows, k)
     trial = f.copy()
     if is_solution(S, b, joint, trial, sharp, a, tol_a):

@@ -11,7 +11,10 @@ Every solution is zero off the held set P (rows with a = 0: joints and touching 
 solves A_PP f_P = -b_P with f >= 0 at contacts, so the least-norm one solves the least-distance
 problem  min sum w_i f_i^2  s.t.  E f = g,  f_contacts >= 0,  where, for a basis B of P's rows
 (a pivoted rank-revealing factorization, runtime.solve.lcp_factor) and R = P \\ B, E = [I, T] with
-T = S_BB^-1 S_BR and g = -S_BB^-1 b_B (the rows of R are combinations of B's). Its dual is
+T = S_BB^-1 S_BR and g = -S_BB^-1 b_B (the rows of R are combinations of B's). It is solved
+first in R's forces alone (runtime.solve.lcp_reduced: f_B = g - T f_R, a QP in |R| unknowns,
+a few where B has ~90 rows); where that reports failure (rounding makes it infeasible), by its
+dual. The dual is
 unconstrained and concave, max_l g.l - 1/2 sum_i w_i^-1 [(E^T l)_i]_+^2 (joints not clipped), with
 f_i = [(E^T l)_i]_+ / w_i: a piecewise quadratic that a Newton method with a line search solves
 exactly once it has found the right pieces (usually in 1-3 steps, the first being the
@@ -32,6 +35,7 @@ from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import lcp_factor as fac
 from runtime.solve.lcp_baraff import is_solution, refine
+from runtime.solve.lcp_reduced import reduced_least_distance
 
 _STEP_SLOPE = 1e-4  # Armijo: a step must gain this fraction of its first-order promise
 _CONVERGED = settings.LCP_LEAST_NORM_DONE
@@ -49,10 +53,18 @@ def least_norm(S, b, joint, inv_w, held, count, dependent, tol, f_out):
     Returns DONE if it solves the LCP to ``tol``; UNIQUE if the held rows are independent (the
     solution is unique, ``f_out`` untouched); FAILED if the Newton method did not converge or
     its forces fail the check (an ill-conditioned basis: ``f_out`` unspecified)."""
-    m = b.size
     L = np.empty((count, count))
     rows = np.empty(count, np.int64)
     k = fac.factor_basis(S, held, count, L, rows, dependent)
+    return least_norm_factored(S, b, joint, inv_w, held, count, L, rows, k, tol, f_out)
+
+
+@njit
+def least_norm_factored(S, b, joint, inv_w, held, count, L, rows, k, tol, f_out):
+    """least_norm with the basis of the held rows already found: ``rows[:k]`` and its factor
+    ``L`` (lcp_factor.factor_basis of ``held[:count]``; neither is changed), for a caller that
+    factored them for its own use."""
+    m = b.size
     q = count - k
     if q == 0:
         return UNIQUE
@@ -121,8 +133,9 @@ def _attempt(S, b, joint, inv_w, tol, T, g, L, rows, k, others, f_out):
     with the basis, should T's conditioning have cost accuracy): DONE or FAILED."""
     m, q = b.size, others.size
     f_basis, f_others = np.empty(k), np.empty(q)
-    done = dual_newton(
-        T, g, inv_w[rows[:k]], inv_w[others], joint[rows[:k]], joint[others], f_basis, f_others
+    wB, wR, jB, jR = inv_w[rows[:k]], inv_w[others], joint[rows[:k]], joint[others]
+    done = reduced_least_distance(T, g, wB, wR, jB, jR, f_basis, f_others) or dual_newton(
+        T, g, wB, wR, jB, jR, f_basis, f_others
     )
     f_out[:] = 0.0
     for c in range(k):

@@ -168,22 +168,30 @@ def project_island(jac, body1, body2, inv_mass, fixed, rate, p, dv):
                     B[k, column[b] + c] += jac[k, 3 * side + c] * np.sqrt(inv_mass[b, c])
     if not (np.all(np.isfinite(B)) and np.all(np.isfinite(rate))):
         return False
-    U, sv, Vt = np.linalg.svd(B, full_matrices=False)
+    # columns that no row moves are left out of the SVD: a disc's turn (its normals all pass
+    # through its centre) is a third of a disc pile's columns, and the SVD's cost grows with them
+    used = np.zeros(width, np.bool_)
+    for j in range(width):
+        used[j] = np.any(B[:, j] != 0.0)
+    kept = np.flatnonzero(used)
+    if kept.size == 0:
+        return True
+    U, sv, Vt = np.linalg.svd(np.ascontiguousarray(B[:, kept]), full_matrices=False)
     du = np.zeros(width)
     for i in range(sv.size):
         if sv[i] > settings.PRESS_RANK * sv[0]:
             c = 0.0
             for k in range(K):
                 c += U[k, i] * rate[k]
-            for j in range(width):
-                du[j] -= Vt[i, j] * c / sv[i]
+            for j in range(kept.size):
+                du[kept[j]] -= Vt[i, j] * c / sv[i]
             for k in range(K):
                 p[k] -= U[k, i] * c / (sv[i] * sv[i])
     for b in range(n):
         if column[b] >= 0:
             for c in range(3):
                 j = column[b] + c
-                if np.any(B[:, j] != 0.0):  # du is in B's row space: exactly 0 off it
+                if used[j]:  # du is in B's row space: exactly 0 off it
                     dv[b, c] += np.sqrt(inv_mass[b, c]) * du[j]
     return True
 

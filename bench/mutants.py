@@ -42,7 +42,8 @@ VE = "generated/vertex_edge.py"
 SHAPE = "runtime/model/shapes.py"
 STEP = "runtime/step/integrators.py"
 COMPILED_STEP = "runtime/step/compiled_stages.py"
-LCP = "tests/runtime/test_lcp_pivoting.py tests/runtime/test_lcp_paths.py tests/runtime/test_lcp.py tests/runtime/test_lcp_property.py"
+LCP = "tests/runtime/test_lcp_pivoting.py tests/runtime/test_lcp_paths.py tests/runtime/test_lcp.py tests/runtime/test_lcp_property.py tests/runtime/test_lcp_reduced.py"
+REDUCED = "runtime/solve/lcp_reduced.py"
 DENSE = "runtime/solve/lcp_dense.py"
 BARAFF = "runtime/solve/lcp_baraff.py"
 ASSEMBLY = "runtime/solve/assembly.py"
@@ -115,6 +116,9 @@ MUTANTS: list[Mutant] = [
     Mutant("lcp:max-step-sign", BARAFF, "elif state[i] == NOT_CLAMPED and da[i] < -noise_a:", "elif state[i] == NOT_CLAMPED and da[i] > noise_a:", LCP, "maxstep: a free contact limits the step when it separates, not when it closes"),
     Mutant("lcp:clamped-row-one-sided", BARAFF, "if not abs(a[i]) <= tol_a[i]:", "if not a[i] <= tol_a[i]:", LCP, "complementarity: a pushed row accepted with a < 0 (still penetrating)"),
     Mutant("lcp:least-norm-pulls", "runtime/solve/lcp_minnorm.py", "if jR[c] or u > 0.0:\n            fR[c]", "if jR[c] or u != 0.0:\n            fR[c]", LCP, "least norm: a redundant contact's force not clipped at 0"),
+    Mutant("reduced:no-drop", REDUCED, "if dl[a] < 0.0 and -lam[a] / dl[a] < t_drop:", "if dl[a] < 0.0 and -lam[a] / dl[a] < t_drop and False:", LCP, "least norm (reduced QP): an active constraint whose multiplier turns negative is never dropped"),
+    Mutant("reduced:redundant-weight-dropped", REDUCED, "H[a, a] += 1.0 / wR[a]", "H[a, a] += 0.0 / wR[a]", LCP, "least norm (reduced QP): the redundant rows' own forces left out of the norm"),
+    Mutant("reduced:rounding-enforced", REDUCED, "floor = max(floor, _MET * _constraint(T, g, z, j, k)[1])", "floor = 0.0", LCP, "least norm (reduced QP): a force >= 0 enforced on a row whose g is rounding of 0 (large opposed forces)"),
     Mutant("lcp:guess-single-row-pulls", ASSEMBLY, "if f[k] < 0.0:", "if f[k] < -np.inf:", GUESS, "the engine's guessed island with one clamped row keeps a pulling force (a body that should lift off)"),
     Mutant("lcp:guess-one-row-island-pulls", ASSEMBLY, "if f < 0.0:", "if f < -np.inf:", GUESS, "the engine's guessed one-row island keeps a pulling force (a body that should lift off)"),
     Mutant("assembly:reaction-sign", ASSEMBLY, "acc[j, c] += inv_mass[j, c] * jac[k, 3 + c] * f", "acc[j, c] -= inv_mass[j, c] * jac[k, 3 + c] * f", IMPACTS + " tests/runtime/test_physics.py", "body 2's reaction (force and impulse) with the wrong sign"),

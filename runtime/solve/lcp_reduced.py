@@ -81,21 +81,19 @@ def reduced_least_distance(T, g, wB, wR, jB, jR, fB, fR):
     active = np.empty(q, np.int64)
     lam = np.zeros(q)
     n_active = 0
-    normal, h_n, dz = np.empty(q), np.empty(q), np.empty(q)
+    normal, h_n, dz, values = np.empty(q), np.empty(q), np.empty(q), np.empty(count)
     for _ in range(4 * (count + q) + 8):
         # a miss below _MET of the largest row's terms is met, as the dual Newton method's
         # equations are (a row whose g is rounding of 0 may need a force < 0 by ~1e-12 of the
         # largest: made active, it drives the others to large opposed forces)
         floor = 0.0
         for j in range(count):
-            floor = max(floor, _MET * _constraint(T, g, z, j, k)[1])
+            values[j], size = _constraint(T, g, z, j, k)
+            floor = max(floor, _MET * size)
         p, worst = -1, 0.0
         for j in range(count):
-            if skip[j]:
-                continue
-            value = _constraint(T, g, z, j, k)[0]
-            if value < -floor and value < worst:
-                p, worst = j, value
+            if not skip[j] and values[j] < -floor and values[j] < worst:
+                p, worst = j, values[j]
         if p < 0:
             _forces(T, g, z, jB, jR, fB, fR)
             return True

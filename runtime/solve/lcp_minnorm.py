@@ -128,14 +128,22 @@ def _rounding(S, b, rows, k, L, g):
 
 
 @njit
+def least_distance(T, g, wB, wR, jB, jR, fB, fR):
+    """The least-distance problem (see dual_newton) in the redundant rows' forces
+    (runtime.solve.lcp_reduced), or by the dual Newton method where that reports failure."""
+    return reduced_least_distance(T, g, wB, wR, jB, jR, fB, fR) or dual_newton(
+        T, g, wB, wR, jB, jR, fB, fR
+    )
+
+
+@njit
 def _attempt(S, b, joint, inv_w, tol, T, g, L, rows, k, others, f_out):
     """The least-distance problem's forces into f_out, checked (again after refining a_B = 0
     with the basis, should T's conditioning have cost accuracy): DONE or FAILED."""
     m, q = b.size, others.size
     f_basis, f_others = np.empty(k), np.empty(q)
-    wB, wR, jB, jR = inv_w[rows[:k]], inv_w[others], joint[rows[:k]], joint[others]
-    done = reduced_least_distance(T, g, wB, wR, jB, jR, f_basis, f_others) or dual_newton(
-        T, g, wB, wR, jB, jR, f_basis, f_others
+    done = least_distance(
+        T, g, inv_w[rows[:k]], inv_w[others], joint[rows[:k]], joint[others], f_basis, f_others
     )
     f_out[:] = 0.0
     for c in range(k):

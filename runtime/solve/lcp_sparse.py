@@ -13,7 +13,8 @@ from every row clamped (a resting pile mostly is). A set that stops losing viola
 three rounds switches to one exchange per round (Murty's rule, the Judice-Pires safeguard); if
 that fails too, the island goes to the dense compiled solver (runtime.solve.lcp_dense),
 warm-started from the best set. Redundant rows get the dense path's least-norm policy
-(runtime.solve.lcp_minnorm), with the basis the envelope factor finds in its order.
+(runtime.solve.lcp_minnorm, the reduced QP of runtime.solve.lcp_reduced first), with the basis
+the envelope factor finds in its order.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from runtime.compiled import njit
 from runtime.solve import lcp_dense
 from runtime.solve import lcp_envelope as env
 from runtime.solve.lcp_baraff import INFEASIBLE, MIN_NORM, OK, PIVOTS, STUCK
-from runtime.solve.lcp_minnorm import DONE, FAILED, UNIQUE, dual_newton
+from runtime.solve.lcp_minnorm import DONE, FAILED, UNIQUE, least_distance
 
 _ROUNDS = 50  # block pivoting rounds before the dense fallback (a warm start needs 1-3)
 _PATIENCE = 3  # rounds without fewer violations before one exchange per round
@@ -213,7 +214,7 @@ def _least_norm(S, envelope, b, joint, held, inv_w, dependent, tol):
     rhs[:] = np.where(kept, -b, 0.0)
     env.solve(first, offset, L, rhs, x)
     f_basis, f_others = np.empty(basis.size), np.empty(others.size)
-    done = dual_newton(
+    done = least_distance(
         T, x[basis].copy(), inv_w[basis], inv_w[others], joint[basis], joint[others], f_basis,
         f_others,
     )  # fmt: skip

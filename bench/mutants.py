@@ -55,6 +55,8 @@ GUESS = "tests/runtime/test_warm_guess.py tests/runtime/test_physics.py tests/ru
 COMPOUND = "tests/runtime/test_compound.py tests/runtime/test_shapes.py tests/runtime/test_scene.py"
 QUIET = "runtime/step/quiet.py"
 QUIETS = "tests/runtime/test_quiet_step.py"
+CLEARANCE = "runtime/step/clearance.py"
+CLEARANCES = "tests/runtime/test_clearance.py tests/runtime/test_guards.py"
 COAST = "runtime/step/coast.py"
 COASTS = "tests/runtime/test_coast.py"
 
@@ -146,7 +148,11 @@ MUTANTS: list[Mutant] = [
     # runtime/step/quiet.py: a step that ends without the event search must have had no event
     Mutant("quiet:crossing-not-seen", QUIET, "if g1 <= floor:", "if g1 <= floor and g0 <= floor:", QUIETS, "only contacts touching at the start are checked for a crossing: an open one that closed within the step counts as quiet, its impact never located"),
     Mutant("quiet:dip-not-seen", QUIET, "v0 < 0.0 and v1k > -creep", "v0 < 0.0 and v1k > 1.0", QUIETS, "an open contact approaching at the start and receding at the end counts as quiet: a dip below d = 0 between the ends missed"),
-    Mutant("quiet:margin-not-checked", QUIET, "moved <= margin[i] and moved", "moved", QUIETS, "a body that outran its margin counts as quiet: contacts beyond the swept ones never watched"),
+    Mutant("quiet:margin-not-checked", QUIET, "far <= margin[i]", "far <= 1e300", QUIETS, "a body that outran its margin counts as quiet: contacts beyond the swept ones never watched"),
+    # runtime/step/clearance.py: a fast pair skipped by the search must have had nothing to find
+    Mutant("clearance:depth-dropped", CLEARANCE, "room = (reach + max(depth, touch))", "room = (reach + touch)", CLEARANCES, "the deepest contact the finder admits left out: a pair clear by less than a penetrating contact's depth counts as clear"),
+    Mutant("clearance:segment-far-end", CLEARANCE, "return max(near - outer, inner - far)", "return far - outer", CLEARANCES, "a feature's distance from a segment taken at the segment's far end: a corner over the middle of an edge counts as far from it"),
+    Mutant("clearance:travel-not-counted", CLEARANCE, "reach += max(margin[j], 2.0 * moved(q0, q1, radii, j))", "reach = 0.0", CLEARANCES, "how far the bodies move left out: any pair whose features are apart at the start counts as clear"),
     Mutant("coast:set-not-compared", COAST, "elif m != keys.size or not np.all(found == keys):", "elif m != keys.size:", COASTS, "a stretch goes on when a contact gave way to another: the held flags and warm-start guesses of the old set used for the new one"),
     Mutant("coast:lifting-coasted", COAST, "if not ok or np.any(modes == LIFTING):", "if not ok:", COASTS, "a step with a lifting contact coasts: its record misses the lifting contact's force, which World.step solves for it"),
     Mutant("coast:memory-not-written", COAST, "memory.update(keys[touched], guesses[touched])", "memory.update(keys[:0], guesses[:0])", COASTS, "the warm-start guesses of a stretch are not written back: the steps after it start from older ones"),

@@ -50,7 +50,7 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
     tol, groups, apart, rows, start, body, owner, compound, cand, inputs, nkeys, width = finder
     held_table, guess_keys, guess_clamped = memory
     (radii, moving, gravity, restitution, mass, inv_mass, fixed, free_acc, step_inv_mass,
-     half_width, switches) = bodies  # fmt: skip
+     half_width, switches, depths, body_start) = bodies  # fmt: skip
     (method, lcp_tol, dense, rounds, touch, tolerance, resting_speed, creep, fast_pair,
      wrap) = numbers  # fmt: skip
     (penetration, segments, arcs, moved_rows, inner, hollow, energy0, energy_limit, e_mass,
@@ -153,7 +153,8 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
             break
         # 6. nothing for the event search to find
         if not is_quiet(q, q1, v1, margin, radii, half_width, switches, case, one, two,
-                        geometry, static2, modes, frame_gap, rate, touch, creep, fast_pair):  # fmt: skip
+                        geometry, static2, modes, frame_gap, rate, touch, creep, fast_pair,
+                        fixed, depths, rows, body_start, feature):  # fmt: skip
             break
         # the World's guards (runtime.step.world), its energy and angle wrap
         min_gap = frame_gap.min() if m else np.inf
@@ -245,6 +246,7 @@ class Coaster:
             stepper.radii, stepper.moving, float(stepper.gravity), b.restitution, b.mass,
             b.inverse_mass, b.fixed, stepper.forces.free_acceleration,
             stepper.forces.inverse_mass, stepper.events.half_width, stepper.events.switches,
+            stepper.events.deepest, t.body_start,
         )  # fmt: skip
         self._numbers = (
             METHOD_ID[stepper.method], settings.LCP_TOL, settings.DENSE_ISLAND,

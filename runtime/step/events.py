@@ -37,7 +37,7 @@ import numpy as np
 from runtime import settings
 from runtime.collide.contact_keys import key_set, member
 from runtime.compiled import njit
-from runtime.step import pair_scan
+from runtime.step import clearance, pair_scan
 from runtime.step.classify import LIFTING, SEPARATING
 
 CROSS = "cross"  # open at the start, penetrating at the end
@@ -299,12 +299,14 @@ class EventSearch:
     ``collider``: pair contacts at a state (runtime.step.stepper.Collision); ``evaluator``:
     kernel rows (runtime.solve.rows.RowEvaluator); ``half_width`` (n,): each body's half width
     (inf for open chains); ``radii`` (n,): bounding radii; ``switches`` (n,): bodies with more
-    than one feature, whose pairs can meet at another feature within a step.
+    than one feature, whose pairs can meet at another feature within a step; ``deepest`` (n,):
+    the deepest contact the finder admits on each body (runtime.step.clearance).
     """
 
     def __init__(self, collider, evaluator, touch: float, radii, half_width, switches) -> None:
         self.collider, self.evaluator, self.touch = collider, evaluator, touch
         self.radii, self.half_width, self.switches = radii, half_width, switches
+        self.deepest = clearance.deepest(collider.finder.tables)
 
     def first(
         self,

@@ -18,6 +18,7 @@ import numpy as np
 from runtime import settings
 from runtime.collide import sweep
 from runtime.collide.broadphase import candidate_pairs
+from runtime.step.clearance import clear
 
 
 class IslandsMeet(Exception):
@@ -86,7 +87,8 @@ def unwatched_meetings(
     watch: pairs no watched contact joins (corner against corner at the start, or a body
     swinging its far end round onto the body it rests on), and other features of joined pairs
     (a spinning polygon between two discs brings another corner round onto the disc one corner
-    watches); a pair of two islands that meet raises :class:`IslandsMeet`.
+    watches); a pair of two islands that meet raises :class:`IslandsMeet`. Pairs whose unwatched
+    features are too far apart to touch within the step (runtime.step.clearance) are skipped.
     ``trajectory(island)``: the island's trajectory; ``q0``, ``q1``: the trial's end poses."""
     radii = search.radii
     fast = sweep.displacement(q0, q1, radii) > settings.FAST_PAIR * search.half_width
@@ -99,10 +101,14 @@ def unwatched_meetings(
     first, second = first[keep], second[keep]
     counts = samples(search, first, second, q0, q1)
     known = set(frame.keys.tolist())
+    tables, c = search.collider.finder.tables, frame.contacts
     out: dict[int, float] = {}
     for i, j, count in zip(first.tolist(), second.tolist(), counts.tolist(), strict=True):
-        if count == 0:
-            continue
+        if count == 0 or clear(
+            i, j, q0, q1, frame.margin, radii, search.deepest, search.touch, tables.rows,
+            tables.body_start, c.body1, c.body2, c.feature,
+        ):  # fmt: skip
+            continue  # no feature pair that no contact has can come close enough to touch
         gi, gj = int(island_of_body[i]), int(island_of_body[j])
         g = gi if gi >= 0 else gj
         traj = trajectory(g)

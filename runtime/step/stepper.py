@@ -408,12 +408,13 @@ class Stepper:
     def _quiet(self, q, end, frame: Frame) -> bool:
         """Whether the trial from q to ``end`` has nothing for the event search to find
         (runtime.step.quiet): then it is the step, without the search."""
-        c, rows = frame.contacts, frame.rows
+        c, rows, tables = frame.contacts, frame.rows, self.collision.finder.tables
         return self._quiet_call(
             q, end[0], end[1], frame.margin, self.radii, self.events.half_width,
             self.events.switches, c.case, c.body1, c.body2, c.geometry,
             np.ascontiguousarray(self.fixed[c.body2]), frame.modes, rows.gap,
             rows.gap_velocity, self.touch, settings.CREEP * self.resting_speed, settings.FAST_PAIR,
+            self.fixed, self.events.deepest, tables.rows, tables.body_start, c.feature,
         )  # fmt: skip
 
     def _islands(self, frame: Frame, active) -> np.ndarray:

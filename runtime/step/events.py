@@ -194,15 +194,18 @@ def brackets(
     v1: np.ndarray,
     h: float,
     touching: np.ndarray,
+    dips: bool = True,
 ) -> list[Bracket]:
     """The contacts whose gap reaches 0 during a step of length h, sorted by first guess.
 
     ``g0, v0`` are d and d' at the start, ``g1, v1`` at the end; ``touching`` marks contacts
     that touch (and separate) at the start: for them only a return to d < 0 counts. A DIP
     bracket's ``hi`` and a RETURN bracket's ``lo`` come from the cubic, so the caller must check
-    the sign of the real d there.
+    the sign of the real d there. ``dips``: False leaves out the contacts open at both ends (a
+    caller that checks their real gap, :func:`find_dip`).
     """
-    maybe = np.where(touching, g1 < 0, (g1 <= 0) | ((v0 < 0) & (v1 > 0)))
+    dip = (v0 < 0) & (v1 > 0) if dips else False
+    maybe = np.where(touching, g1 < 0, (g1 <= 0) | dip)
     found = []
     for k in np.flatnonzero(maybe).tolist():
         b = bracket_one(k, g0[k], v0[k], g1[k], v1[k], 0.0, h, bool(touching[k]))
@@ -341,10 +344,11 @@ class EventSearch:
 
         fast, sampled_counts = self._fast_pairs(contacts, touching, start, trial_end[0], h, gap_of)
         sampled = sampled_counts > 0
-        found = [b for b in brackets(g0, v0, g1, v1, h, touching) if b.kind != DIP]
+        found = brackets(g0, v0, g1, v1, h, touching, dips=False)
         found = [b for b in found if not sampled[b.index]] + fast
         for k in np.flatnonzero(~touching & ~sampled & (g1 > 0) & (v0 < 0) & (v1 > 0)).tolist():
-            dip = find_dip(gap_of(k), k, 0.0, g0[k], v0[k], h, g1[k], v1[k])
+            real = lambda t, k=k: gap_of(k)(t)  # noqa: E731 (made on first use: most screen out)
+            dip = find_dip(real, k, 0.0, g0[k], v0[k], h, g1[k], v1[k])
             if dip is not None:
                 found.append(dip)
         found.sort(key=lambda b: b.guess)

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from stepping import states_and_impacts
 
 import runtime
 from runtime.collide.features import features, scene_tables
@@ -66,12 +67,9 @@ def _run(scene, steps: int, dt: float, skip: bool, monkeypatch) -> tuple:
     monkeypatch.setattr(pair_scan, "clear", counted)
     monkeypatch.setattr(Stepper, "_quiet", lambda *args: False)
     world = runtime.World(scene)
-    states, impacts = [], []
-    for _ in range(steps):
-        impacts += world.step(dt).impact_times
-        states.append(np.concatenate([world.poses, world.velocities]))
+    states, impacts = states_and_impacts(world, steps, dt)
     monkeypatch.undo()
-    return np.array(states), np.array(impacts), said
+    return states, impacts, said
 
 
 @pytest.mark.parametrize(

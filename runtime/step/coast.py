@@ -154,7 +154,7 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
         # 6. nothing for the event search to find
         if not is_quiet(q, q1, v1, margin, radii, half_width, switches, case, one, two,
                         geometry, static2, modes, frame_gap, rate, touch, creep, fast_pair,
-                        fixed, depths, rows, body_start, feature):  # fmt: skip
+                        fixed, depths, rows, body_start, feature, start_v, acc, hi):  # fmt: skip
             break
         # the World's guards (runtime.step.world), its energy and angle wrap
         min_gap = frame_gap.min() if m else np.inf

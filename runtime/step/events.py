@@ -78,7 +78,7 @@ def _poly(c0, c1, c2, c3, s):
 
 
 @njit
-def _cubic_roots(c0, c1, c2, c3, lo, hi):
+def cubic_roots(c0, c1, c2, c3, lo, hi):
     """Real roots in [lo, hi] of c0 + c1 s + c2 s^2 + c3 s^3, sorted: the interval cut at the
     stationary points (the quadratic's roots), and bisection in every piece whose ends differ
     in sign (to the float resolution of s); a root exactly at a cut counts once."""
@@ -132,7 +132,7 @@ def _real_roots(c: np.ndarray, lo: float, hi: float) -> list[float]:
     padded[: c.size] = c
     if not np.any(padded[1:]):
         return []
-    return list(_cubic_roots(*padded.tolist(), float(lo), float(hi)))
+    return list(cubic_roots(*padded.tolist(), float(lo), float(hi)))
 
 
 def _extremum(c: np.ndarray, minimum: bool) -> float | None:

@@ -17,6 +17,11 @@ says "quiet" only where every test the search and the step make is clear with ro
 * no watched contact can have crossed d = 0: an open one ends open (d > a thousandth of the
   touch gap) and is not a dip candidate (approaching at the start, moving apart at the end);
   a touching one (separating or lifting) ends open;
+* where both bodies of a watched contact fly free (no resting contact: constant acceleration,
+  so RK4 moves them along parabolas, exactly up to rounding) and its circles are at their
+  centres of mass, its edge on a fixed body, its gap over the whole step is known in closed
+  form (:func:`least_gap_in_flight`): above the floor at every instant, neither a dip nor a
+  fast pair needs the search -- a disc flying off a cylinder, a ball falling past a floor;
 * no watched pair of a body with several features (a corner, an arc's ends) closed in, whose
   pair the search asks the contact finder again.
 
@@ -32,13 +37,81 @@ import numpy as np
 
 from runtime import settings
 from runtime.collide.broadphase import sweep
-from runtime.compiled import njit
+from runtime.collide.candidates import CIRCLE_CIRCLE, CIRCLE_EDGE
+from runtime.compiled import leaf, njit
 from runtime.solve.kernel_set import by_case, gaps_by_case
-from runtime.step.classify import LIFTING, OPEN, SEPARATING
+from runtime.step.classify import LIFTING, OPEN, RESTING, SEPARATING
 from runtime.step.clearance import clear, moved
+from runtime.step.events import cubic_roots
 
 SLACK = 1e-9  # relative: the room a distance test keeps, for rounding of the NumPy twins
 # (runtime.collide.sweep, runtime.step.pair_scan) that the search computes the same tests with
+
+
+@leaf
+def _centre(q0, v0, a0, fixed, b, cx, cy):
+    """(start, velocity, half the acceleration) of the point (cx, cy) of body b (body axes) in
+    free flight; None if its path is not a parabola (a point off the centre of mass of a
+    moving body turns with it)."""
+    if fixed[b]:
+        c, s = math.cos(q0[b, 2]), math.sin(q0[b, 2])
+        return (q0[b, 0] + c * cx - s * cy, q0[b, 1] + s * cx + c * cy, 0.0, 0.0, 0.0, 0.0), True
+    if cx != 0.0 or cy != 0.0:
+        return (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), False
+    return (q0[b, 0], q0[b, 1], v0[b, 0], v0[b, 1], 0.5 * a0[b, 0], 0.5 * a0[b, 1]), True
+
+
+@njit
+def least_gap_in_flight(k, case, body1, body2, geometry, q0, v0, a0, fixed, h):
+    """The least gap of contact k over a step of length h from poses ``q0``, velocities ``v0``
+    and accelerations ``a0``, for a contact whose bodies fly free (the caller checks: no
+    resting contact, so their accelerations stay ``a0`` at every RK4 stage and their centres
+    of mass follow c(t) = c + v t + a t^2 / 2); -inf where that does not give it in closed form
+    (another case, a circle off its body's centre of mass, an edge on a moving body). Less a
+    rounding allowance (1e-12 of the lengths involved): the integrator's states are these
+    parabolas only up to rounding."""
+    g = geometry[k]
+    one, ok1 = _centre(q0, v0, a0, fixed, body1[k], g[0], g[1])
+    if not ok1:
+        return -math.inf
+    if case[k] == CIRCLE_EDGE:
+        b = body2[k]
+        if not fixed[b]:
+            return -math.inf
+        c, s = math.cos(q0[b, 2]), math.sin(q0[b, 2])
+        nx, ny = c * g[5] - s * g[6], s * g[5] + c * g[6]
+        ex, ey = q0[b, 0] + c * g[3] - s * g[4], q0[b, 1] + s * g[3] + c * g[4]
+        d0 = nx * (one[0] - ex) + ny * (one[1] - ey) - g[2]
+        rate, half = nx * one[2] + ny * one[3], nx * one[4] + ny * one[5]
+        least = min(d0, d0 + h * (rate + h * half))
+        if half > 0.0 and 0.0 < -rate / (2.0 * half) < h:
+            t = -rate / (2.0 * half)
+            least = min(least, d0 + t * (rate + t * half))
+        scale = abs(one[0]) + abs(one[1]) + abs(ex) + abs(ey) + g[2]
+    elif case[k] == CIRCLE_CIRCLE:
+        two, ok2 = _centre(q0, v0, a0, fixed, body2[k], g[3], g[4])
+        if not ok2:
+            return -math.inf
+        ax, ay = one[0] - two[0], one[1] - two[1]  # the centres' difference A + B t + C t^2
+        bx, by = one[2] - two[2], one[3] - two[3]
+        cx, cy = one[4] - two[4], one[5] - two[5]
+        sign = math.copysign(1.0, g[5])  # a concave arc (r2 < 0): the farthest distance counts
+        worst = math.inf
+        times = cubic_roots(  # where |A + B t + C t^2|^2 is stationary: (A + B t + C t^2).(B + 2 C t)
+            ax * bx + ay * by, bx * bx + by * by + 2.0 * (ax * cx + ay * cy),
+            3.0 * (bx * cx + by * cy), 2.0 * (cx * cx + cy * cy), 0.0, h,
+        )  # fmt: skip
+        times.append(0.0)
+        times.append(h)
+        for t in times:
+            dx, dy = ax + t * (bx + t * cx), ay + t * (by + t * cy)
+            worst = min(worst, sign * math.sqrt(dx * dx + dy * dy))
+        least = worst - g[2] - g[5]
+        scale = abs(one[0]) + abs(one[1]) + abs(two[0]) + abs(two[1]) + g[2] + abs(g[5])
+    else:
+        return -math.inf
+    travel = (math.hypot(one[2], one[3]) + h * math.hypot(one[4], one[5])) * h
+    return least - 1e-12 * (scale + travel)
 
 
 @njit
@@ -71,13 +144,15 @@ def _fast_pairs_clear(
 @njit
 def is_quiet(
     q0, q1, v1, margin, radii, half_width, switches, case, body1, body2, geometry, static2,
-    modes, gap0, rate0, touch, creep, fast_pair, fixed, depths, rows, body_start, feature,
+    modes, gap0, rate0, touch, creep, fast_pair, fixed, depths, rows, body_start, feature, v0,
+    a0, h,
 ):  # fmt: skip
     """True if the trial step from poses ``q0`` to the state (q1, v1) has nothing for the
     event search to find (see the module docstring). ``modes``, ``gap0``, ``rate0``: the
     frame's contacts at the start (``feature``: their features); ``margin``: the frame's
     per-body margins; ``fixed``: fixed bodies; ``depths``, ``rows``, ``body_start``: the
-    deepest contact on each body and the scene's feature tables (runtime.step.clearance)."""
+    deepest contact on each body and the scene's feature tables (runtime.step.clearance);
+    ``v0``, ``a0``, ``h``: the trial's start velocities, start accelerations and length."""
     n = q0.shape[0]
     grow = 1.0 + SLACK
     fast = False
@@ -101,25 +176,32 @@ def is_quiet(
     gap1, rate1 = np.empty(m), np.empty(m)
     gaps_by_case(q1, v1, by_case(case), body1, body2, geometry, static2, gap1, rate1)
     floor = settings.TOUCH_LOCATE * touch
+    rests = np.zeros(n, np.bool_)
+    for k in range(m):
+        if modes[k] == RESTING:
+            rests[body1[k]] = rests[body2[k]] = True
     for k in range(m):
         mode = modes[k]
         if not (mode == OPEN or mode == SEPARATING or mode == LIFTING):
             continue
-        g0, v0, g1, v1k = gap0[k], rate0[k], gap1[k], rate1[k]
-        if not (math.isfinite(g1) and math.isfinite(v1k) and math.isfinite(v0)):
+        g0, r0, g1, v1k = gap0[k], rate0[k], gap1[k], rate1[k]
+        if not (math.isfinite(g1) and math.isfinite(v1k) and math.isfinite(r0)):
             return False  # (the search takes a secant's rate for a rate that is not finite)
         if g1 <= floor:  # may have crossed (or returned to) d = 0
             return False
-        if mode == OPEN and v0 < 0.0 and v1k > -creep:  # may have dipped below 0 in between
-            return False
         i, j = body1[k], body2[k]
-        closing = g1 <= g0 or v0 < 0.0
+        flying = not (rests[i] or rests[j]) and (
+            least_gap_in_flight(k, case, body1, body2, geometry, q0, v0, a0, fixed, h) > floor
+        )  # above the floor all through the step: no dip, and nothing for sampling to find
+        if not flying and mode == OPEN and r0 < 0.0 and v1k > -creep:  # may have dipped below 0
+            return False
+        closing = g1 <= g0 or r0 < 0.0
         if closing and (switches[i] or switches[j]):  # may meet at another feature
             return False
         size = min(half_width[i], half_width[j])
         if not math.isfinite(size):
             size = max(radii[i], radii[j])
         travel = (moved(q0, q1, radii, i) + moved(q0, q1, radii, j)) * grow
-        if travel > fast_pair * size:  # a fast pair: the search samples it
+        if not flying and travel > fast_pair * size:  # a fast pair: the search samples it
             return False
     return True

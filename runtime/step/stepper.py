@@ -370,7 +370,7 @@ class Stepper:
                 moved = sweep.displacement(reach[0], end[0], self.radii)
                 if np.any((moved > reach[1])[active]):
                     raise _Merge
-            if self.compiled and self._quiet(q, end, frame):
+            if self.compiled and self._quiet(q, end, frame, resting.accelerations, remaining):
                 report.quiet = events == 0 and active is None
                 return end
             labels = self._islands(frame, active)
@@ -405,9 +405,10 @@ class Stepper:
                 new_q[members], new_v[members] = q_i[members], v_i[members]
             return new_q, new_v
 
-    def _quiet(self, q, end, frame: Frame) -> bool:
-        """Whether the trial from q to ``end`` has nothing for the event search to find
-        (runtime.step.quiet): then it is the step, without the search."""
+    def _quiet(self, q, end, frame: Frame, a0, h: float) -> bool:
+        """Whether the trial of length h from q (with the frame's velocities and accelerations
+        ``a0``) to ``end`` has nothing for the event search to find (runtime.step.quiet): then
+        it is the step, without the search."""
         c, rows, tables = frame.contacts, frame.rows, self.collision.finder.tables
         return self._quiet_call(
             q, end[0], end[1], frame.margin, self.radii, self.events.half_width,
@@ -415,6 +416,7 @@ class Stepper:
             np.ascontiguousarray(self.fixed[c.body2]), frame.modes, rows.gap,
             rows.gap_velocity, self.touch, settings.CREEP * self.resting_speed, settings.FAST_PAIR,
             self.fixed, self.events.deepest, tables.rows, tables.body_start, c.feature,
+            frame.velocities, a0, float(h),
         )  # fmt: skip
 
     def _islands(self, frame: Frame, active) -> np.ndarray:

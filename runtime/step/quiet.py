@@ -35,6 +35,7 @@ import math
 
 import numpy as np
 
+from generated.compiled import circle_circle, circle_edge
 from runtime import settings
 from runtime.collide.broadphase import sweep
 from runtime.collide.candidates import CIRCLE_CIRCLE, CIRCLE_EDGE
@@ -49,64 +50,88 @@ SLACK = 1e-9  # relative: the room a distance test keeps, for rounding of the Nu
 
 
 @leaf
-def _centre(q0, v0, a0, fixed, b, cx, cy):
-    """(start, velocity, half the acceleration) of the point (cx, cy) of body b (body axes) in
-    free flight; None if its path is not a parabola (a point off the centre of mass of a
-    moving body turns with it)."""
+def _motion(q0, v0, a0, fixed, b):
+    """Pose, velocity and acceleration of body b in free flight (a fixed body: its pose, the
+    rest 0)."""
     if fixed[b]:
-        c, s = math.cos(q0[b, 2]), math.sin(q0[b, 2])
-        return (q0[b, 0] + c * cx - s * cy, q0[b, 1] + s * cx + c * cy, 0.0, 0.0, 0.0, 0.0), True
+        return q0[b, 0], q0[b, 1], q0[b, 2], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    return (
+        q0[b, 0], q0[b, 1], q0[b, 2], v0[b, 0], v0[b, 1], v0[b, 2], a0[b, 0], a0[b, 1], a0[b, 2],
+    )  # fmt: skip
+
+
+@leaf
+def _pose_at(m, t):
+    """The pose at time t of a body with :func:`_motion` m: q + v t + a t^2 / 2."""
+    return (
+        m[0] + t * (m[3] + 0.5 * t * m[6]),
+        m[1] + t * (m[4] + 0.5 * t * m[7]),
+        m[2] + t * (m[5] + 0.5 * t * m[8]),
+    )
+
+
+@leaf
+def _circle_path(m, still, cx, cy):
+    """(start, velocity, half the acceleration) of the point (cx, cy) (body axes) of a body with
+    :func:`_motion` m (``still``: a fixed body); None where it is not a parabola (a point off
+    the centre of mass of a moving body turns with it)."""
+    if still:
+        c, s = math.cos(m[2]), math.sin(m[2])
+        return (m[0] + c * cx - s * cy, m[1] + s * cx + c * cy, 0.0, 0.0, 0.0, 0.0), True
     if cx != 0.0 or cy != 0.0:
         return (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), False
-    return (q0[b, 0], q0[b, 1], v0[b, 0], v0[b, 1], 0.5 * a0[b, 0], 0.5 * a0[b, 1]), True
+    return (m[0], m[1], m[3], m[4], 0.5 * m[6], 0.5 * m[7]), True
 
 
 @njit
 def least_gap_in_flight(k, case, body1, body2, geometry, q0, v0, a0, fixed, h):
     """The least gap of contact k over a step of length h from poses ``q0``, velocities ``v0``
     and accelerations ``a0``, for a contact whose bodies fly free (the caller checks: no
-    resting contact, so their accelerations stay ``a0`` at every RK4 stage and their centres
-    of mass follow c(t) = c + v t + a t^2 / 2); -inf where that does not give it in closed form
-    (another case, a circle off its body's centre of mass, an edge on a moving body). Less a
-    rounding allowance (1e-12 of the lengths involved): the integrator's states are these
-    parabolas only up to rounding."""
+    resting contact, so their accelerations stay ``a0`` at every RK4 stage and their poses
+    follow q(t) = q + v t + a t^2 / 2); -inf where that does not give it in closed form
+    (another case, a circle off its moving body's centre of mass, an edge on a moving body).
+
+    The gaps are the generated kernels' (generated/compiled); only the instants where the
+    least one can lie come from the motion: for a circle on a fixed edge, d is then exactly
+    quadratic in t (d''' = 0), d + d' t + d'' t^2 / 2 with d, d', d'' at the start, least at an
+    end or its vertex; for two circles, the ends and the instants where the squared distance of
+    their centres, a quartic in t, is stationary. Less a rounding allowance (1e-12 of the
+    lengths involved): the integrator's states are these parabolas only up to rounding."""
     g = geometry[k]
-    one, ok1 = _centre(q0, v0, a0, fixed, body1[k], g[0], g[1])
+    i, j = body1[k], body2[k]
+    m1, m2 = _motion(q0, v0, a0, fixed, i), _motion(q0, v0, a0, fixed, j)
+    one, ok1 = _circle_path(m1, fixed[i], g[0], g[1])
     if not ok1:
         return -math.inf
     if case[k] == CIRCLE_EDGE:
-        b = body2[k]
-        if not fixed[b]:
+        if not fixed[j]:
             return -math.inf
-        c, s = math.cos(q0[b, 2]), math.sin(q0[b, 2])
-        nx, ny = c * g[5] - s * g[6], s * g[5] + c * g[6]
-        ex, ey = q0[b, 0] + c * g[3] - s * g[4], q0[b, 1] + s * g[3] + c * g[4]
-        d0 = nx * (one[0] - ex) + ny * (one[1] - ey) - g[2]
-        rate, half = nx * one[2] + ny * one[3], nx * one[4] + ny * one[5]
+        cx1, cy1, r1, ex2, ey2, nx2, ny2 = g[0], g[1], g[2], g[3], g[4], g[5], g[6]
+        d0 = circle_edge.gap(*m1[:3], *m2[:3], cx1, cy1, r1, ex2, ey2, nx2, ny2)
+        rate = circle_edge.gap_velocity(*m1[:6], *m2[:6], cx1, cy1, ex2, ey2, nx2, ny2)
+        half = 0.5 * circle_edge.gap_acceleration(*m1, *m2, cx1, cy1, ex2, ey2, nx2, ny2)
         least = min(d0, d0 + h * (rate + h * half))
         if half > 0.0 and 0.0 < -rate / (2.0 * half) < h:
             t = -rate / (2.0 * half)
             least = min(least, d0 + t * (rate + t * half))
-        scale = abs(one[0]) + abs(one[1]) + abs(ex) + abs(ey) + g[2]
+        scale = abs(m1[0]) + abs(m1[1]) + abs(m2[0]) + abs(m2[1]) + abs(g[3]) + abs(g[4]) + g[2]
     elif case[k] == CIRCLE_CIRCLE:
-        two, ok2 = _centre(q0, v0, a0, fixed, body2[k], g[3], g[4])
+        two, ok2 = _circle_path(m2, fixed[j], g[3], g[4])
         if not ok2:
             return -math.inf
         ax, ay = one[0] - two[0], one[1] - two[1]  # the centres' difference A + B t + C t^2
         bx, by = one[2] - two[2], one[3] - two[3]
         cx, cy = one[4] - two[4], one[5] - two[5]
-        sign = math.copysign(1.0, g[5])  # a concave arc (r2 < 0): the farthest distance counts
-        worst = math.inf
         times = cubic_roots(  # where |A + B t + C t^2|^2 is stationary: (A + B t + C t^2).(B + 2 C t)
             ax * bx + ay * by, bx * bx + by * by + 2.0 * (ax * cx + ay * cy),
             3.0 * (bx * cx + by * cy), 2.0 * (cx * cx + cy * cy), 0.0, h,
         )  # fmt: skip
         times.append(0.0)
         times.append(h)
+        least = math.inf
         for t in times:
-            dx, dy = ax + t * (bx + t * cx), ay + t * (by + t * cy)
-            worst = min(worst, sign * math.sqrt(dx * dx + dy * dy))
-        least = worst - g[2] - g[5]
+            p1, p2 = _pose_at(m1, t), _pose_at(m2, t)
+            least = min(least, circle_circle.gap(*p1, *p2, g[0], g[1], g[2], g[3], g[4], g[5]))
         scale = abs(one[0]) + abs(one[1]) + abs(two[0]) + abs(two[1]) + g[2] + abs(g[5])
     else:
         return -math.inf

@@ -5,6 +5,7 @@ on and off -- and the check does decide both ways, so the equality is not vacuou
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -107,6 +108,55 @@ def test_the_check_declines_each_kind_of_trial_end_the_search_must_see():
     end[ball, 0] += 0.01
     assert frame.margin[ball] < 0.01 < 0.025
     assert not stepper._quiet(q, (end, v), frame, resting.accelerations, 0.01)
+
+
+def _disc_in_bowl_past_a_peg():
+    """A disc (r = 0.1) released at rest 0.9 rad up a fixed bowl (R = 1), and a fixed peg
+    (r = 0.02) inside the bowl, placed where the disc's centre is after 0.15 s (its angle to
+    leading order, 0.9 - g sin(0.9) t^2 / 1.8), 2 mm into the disc's path."""
+    rho, start, peg_radius = 0.9, 0.9, 0.02
+    there = start - 0.5 * 9.81 * math.sin(start) / rho * 0.15**2
+    reach = rho - (0.1 + peg_radius - 0.002)
+    bowl = {
+        "type": "bowl",
+        "radius": 1.0,
+        "start_angle": -5 * math.pi / 6,
+        "end_angle": -math.pi / 6,
+    }
+    bodies = [
+        {"name": "bowl", "fixed": True, "shape": bowl},
+        {"name": "disc", "shape": {"type": "disc", "radius": 0.1}, "density": 1000.0,
+         "position": [rho * math.sin(start), -rho * math.cos(start)]},
+        {"name": "peg", "fixed": True, "shape": {"type": "disc", "radius": peg_radius},
+         "position": [reach * math.sin(there), -reach * math.cos(there)]},
+    ]  # fmt: skip
+    data = {"scene": {"name": "peg"}, "simulation": {"duration": 1.0, "dt": 0.2}, "body": bodies}
+    return runtime.scene_from_dict(data, source="peg")
+
+
+def test_a_body_with_a_resting_contact_is_not_taken_to_fly_free(monkeypatch):
+    """The disc rests on the bowl, so its path is the bowl's arc, not the parabola of its start
+    acceleration (a straight line along the bowl's tangent, from rest): over a step of 0.2 s the
+    parabola passes the peg 2 mm clear while the arc runs into it. The check must leave that
+    step to the search, which locates the impact within it; the runs with and without the
+    check agree."""
+    scene = _disc_in_bowl_past_a_peg()
+    world = runtime.World(scene)
+    stepper = world.stepper
+    q, v = world.poses.copy(), world.velocities.copy()
+    frame, resting = stepper.settled_frame(q, v, 0.2, stepper.limits(0.2))
+    c = frame.contacts
+    peg = int(np.flatnonzero((c.body1 == 1) & (c.body2 == 2) | (c.body1 == 2) & (c.body2 == 1))[0])
+    a0 = resting.accelerations
+    flight = quiet.least_gap_in_flight(
+        peg, c.case, c.body1, c.body2, c.geometry, q, frame.velocities, a0, stepper.fixed, 0.2
+    )
+    assert 0.001 < flight < 0.003  # the parabola would pass the peg clear
+    states, impacts, decided = _run(scene, 3, 0.2, True, monkeypatch)
+    general, general_impacts, _ = _run(scene, 3, 0.2, False, monkeypatch)
+    assert 0.1 < impacts[0] < 0.15  # the arc meets the peg within the first step
+    assert np.array_equal(states, general)
+    assert np.array_equal(impacts, general_impacts)
 
 
 def _least(case: str, geometry, q0, v0, a0, fixed, h: float) -> float:

@@ -5,7 +5,7 @@ The kernels' speed (bench/kernels.py) says little about a simulation: a step als
 contacts, resolves impacts, solves the contact LCP at every stage and records. So this times
 whole steps of `runtime.simulate` on piles of discs built with `runtime.scene_from_dict`:
 
-- resting piles of 10, 20, 50, 100 and 200 discs (every disc in the notch of two below): the
+- resting piles of 10, 20, 50, 100 and 200 discs (packed hexagonally wall to wall: at rest): the
   contacts are those of the pile from the first step, so the time per step against the number
   of contacts gives the exponent p of time ~ contacts^p (a least-squares fit in log-log);
 - falling piles of 10 and 50 discs (the same rows, a few millimetres apart): the discs land on
@@ -59,19 +59,26 @@ MAX_STEPS = {"resting": 40, "falling": 200}  # a falling pile lands within ~100 
 CHUNK_TIME = 0.5  # s of wall time per `simulate` call, about (a cut chunk loses contacts)
 
 
-def pile_scene(n: int, drop: float = 0.0):
-    """`n` discs resting in a triangular pile in a box, via `runtime.scene_from_dict`.
+def pile_scene(n: int, drop: float = 0.0, gap: float = GAP):
+    """`n` discs in a triangular pile in a box, via `runtime.scene_from_dict`.
 
     Rows alternate between k and k - 1 discs; every disc above the floor sits in the notch of
-    two below it, touching both, and neighbours in a row are GAP apart (so no disc has more
-    supports than it needs: the contact forces are determined and the LCP well posed). The box
-    is exactly as wide as the long rows, whose end discs lean on the walls. Everything touches
-    at t = 0 (gap 0 up to rounding) and nothing overlaps; the pile is in equilibrium, so every
-    step solves the LCP of all its contacts. With `drop` > 0 row j is lifted by j * drop: the
+    two below it, touching both, and neighbours in a row are `gap` apart. The box is exactly as
+    wide as the long rows, whose end discs lean on the walls. Everything touches at t = 0 (gap
+    0 up to rounding) and nothing overlaps. With `drop` > 0 row j is lifted by j * drop: the
     bottom row rests and the others fall onto it.
+
+    With `gap` = 0 the discs are packed hexagonally, wall to wall: the pile is at rest (its
+    accelerations ~1e-13 m/s^2) and statically indeterminate (a third of its contacts depend on
+    the others; the solver returns the least-norm forces) -- the resting pile the step
+    benchmarks time. With `gap` > 0 (the default: bench/lcp.py's and bench/collide.py's
+    problems) no disc has more supports than it needs and the forces are determined, but the
+    frictionless pile is not in equilibrium: a disc pushed from one side more than the other
+    slides into its gap, and the pile spreads (accelerations up to ~1.5 m/s^2 at the first
+    step, the rows ~100x slower to step once they collide, from ~80 steps on).
     """
     k = max(2, math.ceil(math.sqrt(2 * n)))  # discs in a long row: the pile is about 2:1
-    pitch = 2 * RADIUS + GAP
+    pitch = 2 * RADIUS + gap
     rise = math.sqrt((2 * RADIUS) ** 2 - (pitch / 2) ** 2)  # row to row, discs touching
     width = 2 * RADIUS + (k - 1) * pitch
     bodies, row = [], 0
@@ -166,7 +173,7 @@ def time_pile(n: int, kind: str, budget: float = BUDGET) -> PileTiming:
     is small against a step of a pile. When the budget runs out inside a chunk, its finished steps
     keep their times but not their contacts (those were in the lost `Run`), and the time
     already spent in the unfinished step is kept as a lower bound."""
-    scene = pile_scene(n, drop=GAP if kind == "falling" else 0.0)
+    scene = pile_scene(n, drop=GAP, gap=GAP) if kind == "falling" else pile_scene(n, gap=0.0)
     warm_up = [(time.perf_counter(), 0.0)]
     _chunk(scene, 1, warm_up)
     times: list[float] = []
@@ -274,10 +281,11 @@ def section(timings: list[PileTiming], fit: tuple[float, float, int], elapsed: f
         f"Whole steps of `runtime.simulate` ({METHOD}, dt = {DT:g} s; all a step does: contacts, "
         "impacts, the LCP at every stage, recording) on piles of discs "
         f"(r = {RADIUS:g} m, restitution 0) in a box, built with `runtime.scene_from_dict`. "
-        "*Resting*: every disc in the notch of two below it, touching, neighbours in a row "
-        f"{GAP * 1e3:g} mm apart, the long rows wall to wall -- in equilibrium from the first "
-        f"step. *Falling*: the same rows lifted by {GAP * 1e3:g} mm each, so they land on each "
-        "other. Contacts = the resting contacts of a step (the LCP's size). Each pile runs "
+        "*Resting*: packed hexagonally, wall to wall (every disc touching its neighbours in "
+        "its row and the two below it) -- at rest from the first step, and statically "
+        "indeterminate (a third of the contacts depend on the others). *Falling*: rows with "
+        f"neighbours {GAP * 1e3:g} mm apart, each lifted by {GAP * 1e3:g} mm, so they land on "
+        "each other. Contacts = the resting contacts of a step (the LCP's size). Each pile runs "
         f"until {MAX_STEPS['resting']} (resting) or {MAX_STEPS['falling']} (falling) steps or "
         f"{BUDGET:g} s of wall time.",
         "",

@@ -122,7 +122,7 @@ def falling(n: int, quick: bool, budget: float = math.inf) -> dict:
 
 
 def resting(n: int, steps: int) -> dict:
-    scene = pile_scene(n)
+    scene = pile_scene(n, gap=0.0)  # packed wall to wall: at rest (bench/steps.py)
     world = runtime.World(scene)
     world.step(1e-3)
     start = time.perf_counter()

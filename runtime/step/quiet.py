@@ -15,8 +15,9 @@ says "quiet" only where every test the search and the step make is clear with ro
   contact of the frame has is too far apart to touch), so no sample can find a new contact --
   a disc swinging fast in a bowl touches it only where its contact is;
 * no watched contact can have crossed d = 0: an open one ends open (d > a thousandth of the
-  touch gap) and is not a dip candidate (approaching at the start, moving apart at the end);
-  a touching one (separating or lifting) ends open;
+  touch gap) and is not a dip candidate (approaching at the start, moving apart at the end)
+  unless the search would drop it unchecked (:func:`_screened`: its Hermite cubic stays far
+  above 0); a touching one (separating or lifting) ends open;
 * where both bodies of a watched contact fly free (no resting contact: constant acceleration,
   so RK4 moves them along parabolas, exactly up to rounding) and its circles are at their
   centres of mass, its edge on a fixed body, its gap over the whole step is known in closed
@@ -139,6 +140,35 @@ def least_gap_in_flight(k, case, body1, body2, geometry, q0, v0, a0, fixed, h):
     return least - 1e-12 * (scale + travel)
 
 
+@leaf
+def _screened(g0, r0, g1, r1, h):
+    """Whether the event search drops this open contact (d' < 0 at the start, > 0 at the end)
+    without checking its real gap: runtime.step.events.find_dip looks no further where the
+    Hermite cubic through (d, d') at both ends keeps its minimum farther from 0 than
+    settings.DIP_SCREEN of its variation. Taken here with the least of the cubic over the step
+    (its ends included: no higher than the search's interior minimum) and room of 1e-9 of the
+    terms for the search's own rounding -- a resting pile's contacts that drifted just past
+    the hold gap and creep back and forth by far less than it."""
+    c1 = h * r0
+    c2 = 3.0 * (g1 - g0) - h * (2.0 * r0 + r1)
+    c3 = 2.0 * (g0 - g1) + h * (r0 + r1)
+    low = min(g0, g1)
+    a, b = 3.0 * c3, 2.0 * c2  # the cubic's slope a s^2 + b s + c1
+    if a != 0.0:
+        disc = b * b - 4.0 * a * c1
+        if disc >= 0.0:
+            q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
+            for s in (q / a, c1 / q if q != 0.0 else q / a):
+                if 0.0 < s < 1.0:
+                    low = min(low, g0 + s * (c1 + s * (c2 + s * c3)))
+    elif b != 0.0 and 0.0 < -c1 / b < 1.0:
+        s = -c1 / b
+        low = min(low, g0 + s * (c1 + s * (c2 + s * c3)))
+    screen = settings.DIP_SCREEN
+    room = 1e-9 * (abs(g0) + abs(g1) + h * (abs(r0) + abs(r1)))
+    return (1.0 + screen) * low - screen * max(g0, g1) > room
+
+
 @njit
 def _fast_pairs_clear(
     q0, q1, margin, radii, half_width, fixed, fast_pair, touch, depths, rows, body_start, body1,
@@ -219,7 +249,8 @@ def is_quiet(
             least_gap_in_flight(k, case, body1, body2, geometry, q0, v0, a0, fixed, h) > floor
         )  # above the floor all through the step: no dip, and nothing for sampling to find
         if not flying and mode == OPEN and r0 < 0.0 and v1k > -creep:  # may have dipped below 0
-            return False
+            if not _screened(g0, r0, g1, v1k, h):  # unless the search would not look
+                return False
         closing = g1 <= g0 or r0 < 0.0
         if closing and (switches[i] or switches[j]):  # may meet at another feature
             return False

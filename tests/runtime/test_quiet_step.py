@@ -159,6 +159,34 @@ def test_a_body_with_a_resting_contact_is_not_taken_to_fly_free(monkeypatch):
     assert np.array_equal(impacts, general_impacts)
 
 
+def test_a_graze_the_cubic_misses_is_left_to_the_search(monkeypatch):
+    """A disc (r = 0.1) passing a fixed peg (r = 0.1) at 1 m/s, its centre's line 50 nm closer
+    than touching, in steps of 0.02 s (not fast: 2 cm, under a quarter of the radius): the
+    Hermite cubic through the gap's ends overestimates the gap at the closest approach by
+    3/D^3 (h/2)^4 / 24 = 156 nm, so it stays above 0 while the disc overlaps the peg. The
+    check must leave that step to the search, which checks the real gap and finds the impact
+    where the line meets the peg: x = -sqrt(R^2 - D^2)."""
+    depth, R = 5e-8, 0.2
+    bodies = [
+        {"name": "peg", "fixed": True, "shape": {"type": "disc", "radius": 0.1}},
+        {"name": "disc", "shape": {"type": "disc", "radius": 0.1}, "density": 1000.0,
+         "position": [-0.05, R - depth], "velocity": [1.0, 0.0]},
+    ]  # fmt: skip
+    data = {
+        "scene": {"name": "graze", "gravity": [0.0, 0.0]},
+        "simulation": {"duration": 0.1, "dt": 0.02},
+        "body": bodies,
+    }
+    scene = runtime.scene_from_dict(data, source="graze")
+    states, impacts, decided = _run(scene, 4, 0.02, True, monkeypatch)
+    general, general_impacts, _ = _run(scene, 4, 0.02, False, monkeypatch)
+    touch = 0.05 - math.sqrt(R**2 - (R - depth) ** 2)  # 0.0498586 s
+    assert len(impacts) == 1 and abs(impacts[0] - (touch - 0.04)) < 1e-9  # in the third step
+    assert decided[True] > 0  # the steps before and after are quiet
+    assert np.array_equal(states, general)
+    assert np.array_equal(impacts, general_impacts)
+
+
 def _least(case: str, geometry, q0, v0, a0, fixed, h: float) -> float:
     """quiet.least_gap_in_flight of one contact of body 0 on body 1."""
     arrays = [np.array(x, dtype=float).reshape(2, 3) for x in (q0, v0, a0)]

@@ -183,7 +183,17 @@ def refactor(S, L, rows, k, scratch):
 def cholesky_solve(H, rhs, out, scratch):
     """out = H^-1 rhs for a small symmetric positive definite H (n = len(rhs)); False if a
     pivot is not positive."""
-    n = rhs.size
+    if not cholesky(H, rhs.size, scratch):
+        return False
+    solve(scratch, rhs.size, rhs, out)
+    return True
+
+
+@njit
+def cholesky(H, n, scratch):
+    """scratch[:n, :n] = L with L L^T = H[:n, :n] (its lower triangle), for a symmetric positive
+    definite H; False if a pivot is not positive. Factor once, then :func:`solve` for each
+    right-hand side (an inverse: n solves, not n factorizations)."""
     for i in range(n):
         for t in range(i + 1):
             s = H[i, t]
@@ -195,7 +205,6 @@ def cholesky_solve(H, rhs, out, scratch):
                 scratch[i, i] = math.sqrt(s)
             else:
                 scratch[i, t] = s / scratch[t, t]
-    solve(scratch, n, rhs, out)
     return True
 
 

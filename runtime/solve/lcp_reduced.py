@@ -61,11 +61,12 @@ def reduced_least_distance(T, g, wB, wR, jB, jR, fB, fR):
         for i in range(k):
             c_lin[a] -= T[i, a] * g[i] / wB[i]
     H_inv, unit, column = np.empty((q, q)), np.zeros(q), np.empty(q)
-    for a in range(q):
+    if not fac.cholesky(H, q, scratch):
+        return False
+    for a in range(q):  # H^-1 column by column from the one factor
         unit[:] = 0.0
         unit[a] = 1.0
-        if not fac.cholesky_solve(H, unit, column, scratch):
-            return False
+        fac.solve(scratch, q, unit, column)
         H_inv[:, a] = column
     z = np.zeros(q)
     for a in range(q):

@@ -466,3 +466,28 @@ def test_warm_started_forces_equal_the_pivoting_solver():
         assert (
             np.all(f >= 0) and np.all(a >= -1e-9 * scale) and abs(f @ a) < 1e-9 * scale * np.sum(f)
         )
+
+
+def test_an_impact_the_dense_solver_gives_up_on_is_resolved_by_the_general_one():
+    """The final plastic pass of an impact in the landing 200-disc pile at t = 0.749 s
+    (tests/runtime/data/impulse_213.npz: A of 213 touching contacts, rank 203, and their d'):
+    the compiled dense solver gives up on it (the run failed there), the general solver's
+    sparse path solves it. Checked by the conditions themselves: impulses >= 0, no contact
+    left approaching beyond the creep speed, and none that takes an impulse left separating."""
+    data = np.load(Path(__file__).parent / "data" / "impulse_213.npz")
+    m = data["rate"].size
+    A = np.zeros((m, m))
+    for i in range(m):
+        row = slice(data["indptr"][i], data["indptr"][i + 1])
+        A[i, data["indices"][row]] = data["data"][row]
+    rate, e = data["rate"], data["e"]
+    assert np.linalg.matrix_rank(A) < m
+    compiled = impulses.resolve_island(A, rate.copy(), e, 1e-3, 1e-12, np.zeros(m))
+    assert compiled == -1
+    out = impulses.resolve(A, rate, e, 1e-3, 1e-12)
+    after = rate + A @ out.impulses
+    assert np.allclose(after, out.gap_velocity, rtol=0, atol=1e-12)
+    assert out.impulses.min() >= 0.0 and out.impulses.max() > 0.0
+    assert after.min() >= -1e-12
+    scale = np.abs(A).max() * out.impulses.max() + np.abs(rate).max()
+    assert np.all(np.abs(after[out.impulses > 0]) <= 1e-9 * scale)

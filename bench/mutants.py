@@ -144,7 +144,7 @@ MUTANTS: list[Mutant] = [
     Mutant("scene:inertia-about-centroid", "runtime/model/scene.py", "inertia = float(mass) * shape.second_moment_about(offset) / float(shape.area)", "inertia = float(mass) * shape.second_moment / float(shape.area)", COMPOUND, "a given centre of mass: the inertia about the centroid, not about that point"),
     Mutant("scene:inverse-masses-rows", "runtime/model/scene.py", "(b.inverse_mass, b.inverse_mass, b.inverse_inertia)", "(b.inverse_mass, b.inverse_inertia, b.inverse_mass)", STEPPING + " " + IMPACTS, "W = diag(1/m, 1/I, 1/m): the inverse inertia on y, the inverse mass on the rotation"),
     # the impulses' final inelastic pass and the effective-mass matrix of several contacts
-    Mutant("impulses:final-pass-not-applied", IMPULSES, "    total += p\n    rate += A @ p\n    return waves", "    rate += A @ p\n    return waves", IMPACTS, "the final inelastic pass's impulses counted in d' but never applied to the bodies"),
+    Mutant("impulses:final-pass-not-applied", IMPULSES, "    total += p\n    rate += A @ p\n", "    rate += A @ p\n", IMPACTS, "the final inelastic pass's impulses counted in d' but never applied to the bodies"),
     # runtime/step/quiet.py: a step that ends without the event search must have had no event
     Mutant("quiet:crossing-not-seen", QUIET, "if g1 <= floor:", "if g1 <= floor and g0 <= floor:", QUIETS, "only contacts touching at the start are checked for a crossing: an open one that closed within the step counts as quiet, its impact never located"),
     Mutant("quiet:dip-not-seen", QUIET, "r0 < 0.0 and v1k > -creep", "r0 < 0.0 and v1k > 1.0", QUIETS, "an open contact approaching at the start and receding at the end counts as quiet: a dip below d = 0 between the ends missed"),

@@ -58,6 +58,26 @@ def impulse_lcp(A, b, guess, p):
 
 
 @njit
+def _wave_problem(A, rate, restitution, wave):
+    """The LCP of one wave (step 1 of the module docstring): A_WW and (1 + e) d'_W."""
+    return np.ascontiguousarray(A[wave][:, wave]), (1.0 + restitution[wave]) * rate[wave]
+
+
+@njit
+def _apply_wave(A, wave, p, total, rate):
+    """A wave's impulses added, and passed on to every touching contact's d' (step 2)."""
+    total[wave] += p
+    rate += A[:, wave] @ p
+
+
+@njit
+def _apply_final(A, p, total, rate):
+    """The final plastic pass's impulses added, and d' after them (step 3)."""
+    total += p
+    rate += A @ p
+
+
+@njit
 def resolve_island(A, rate, restitution, resting_speed, creep_speed, total):
     """Impulses (added to ``total``) for the touching contacts of one island with
     effective-mass matrix A and rates ``rate`` (updated: d' after the impacts), by the policy
@@ -69,20 +89,17 @@ def resolve_island(A, rate, restitution, resting_speed, creep_speed, total):
         if wave.size == 0:
             break
         waves += 1
-        sub = np.ascontiguousarray(A[wave][:, wave])
+        sub, b = _wave_problem(A, rate, restitution, wave)
         p = np.zeros(wave.size)
-        every = np.ones(wave.size, np.bool_)
-        if not impulse_lcp(sub, (1.0 + restitution[wave]) * rate[wave], every, p):
+        if not impulse_lcp(sub, b, np.ones(wave.size, np.bool_), p):
             return -1
-        total[wave] += p
-        rate += A[:, wave] @ p
+        _apply_wave(A, wave, p, total, rate)
     if not np.any(rate < -creep_speed):
         return waves
     p = np.zeros(rate.size)
     if not impulse_lcp(A, rate.copy(), rate < -creep_speed, p):
         return -1
-    total += p
-    rate += A @ p
+    _apply_final(A, p, total, rate)
     return waves
 
 
@@ -120,21 +137,18 @@ def _resolve_general(A, rate, restitution, resting_speed, creep_speed, total) ->
         if wave.size == 0:
             break
         waves += 1
-        sub = A[np.ix_(wave, wave)]
         try:
-            p, _ = lcp.solve_warm(sub, (1.0 + restitution[wave]) * rate[wave], guess=None)
+            p, _ = lcp.solve_warm(*_wave_problem(A, rate, restitution, wave))
         except lcp.ContactSolverError:
             return -1
-        total[wave] += p
-        rate += A[:, wave] @ p
+        _apply_wave(A, wave, p, total, rate)
     if not np.any(rate < -creep_speed):
         return waves
     try:
         p, _ = lcp.solve_warm(A, rate.copy(), guess=rate < -creep_speed)
     except lcp.ContactSolverError:
         return -1
-    total += p
-    rate += A @ p
+    _apply_final(A, p, total, rate)
     return waves
 
 

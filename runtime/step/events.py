@@ -36,7 +36,7 @@ import numpy as np
 
 from runtime import settings
 from runtime.collide.contact_keys import key_set, member
-from runtime.compiled import njit
+from runtime.compiled import leaf, njit
 from runtime.step import clearance, pair_scan
 from runtime.step.classify import LIFTING, SEPARATING
 
@@ -64,12 +64,18 @@ class Bracket:
         return float((2.0 * self.cubic[2] + 6.0 * self.cubic[3] * s) / self.span**2)
 
 
-def hermite(g0: float, v0: float, g1: float, v1: float, h: float) -> np.ndarray:
-    """Coefficients (c0, c1, c2, c3) of p(s) = sum c_k s^k, s = t / h, with p(0) = g0,
-    p(1) = g1, dp/dt = v0 at 0 and v1 at h."""
+@leaf
+def hermite_coefficients(g0, v0, g1, v1, h):
+    """(c0, c1, c2, c3) of p(s) = sum c_k s^k, s = t / h, with p(0) = g0, p(1) = g1,
+    dp/dt = v0 at 0 and v1 at h (compiled: the quiet check screens with the same cubic)."""
     c2 = 3.0 * (g1 - g0) - h * (2.0 * v0 + v1)
     c3 = 2.0 * (g0 - g1) + h * (v0 + v1)
-    return np.array([g0, h * v0, c2, c3])
+    return g0, h * v0, c2, c3
+
+
+def hermite(g0: float, v0: float, g1: float, v1: float, h: float) -> np.ndarray:
+    """:func:`hermite_coefficients` as an array."""
+    return np.array(hermite_coefficients(g0, v0, g1, v1, h))
 
 
 @njit

@@ -44,7 +44,7 @@ from runtime.compiled import leaf, njit
 from runtime.solve.kernel_set import by_case, gaps_by_case
 from runtime.step.classify import LIFTING, OPEN, RESTING, SEPARATING
 from runtime.step.clearance import clear, moved
-from runtime.step.events import cubic_roots
+from runtime.step.events import cubic_roots, hermite_coefficients
 
 SLACK = 1e-9  # relative: the room a distance test keeps, for rounding of the NumPy twins
 # (runtime.collide.sweep, runtime.step.pair_scan) that the search computes the same tests with
@@ -140,30 +140,19 @@ def least_gap_in_flight(k, case, body1, body2, geometry, q0, v0, a0, fixed, h):
     return least - 1e-12 * (scale + travel)
 
 
-@leaf
+@njit
 def _screened(g0, r0, g1, r1, h):
     """Whether the event search drops this open contact (d' < 0 at the start, > 0 at the end)
     without checking its real gap: runtime.step.events.find_dip looks no further where the
     Hermite cubic through (d, d') at both ends keeps its minimum farther from 0 than
-    settings.DIP_SCREEN of its variation. Taken here with the least of the cubic over the step
-    (its ends included: no higher than the search's interior minimum) and room of 1e-9 of the
-    terms for the search's own rounding -- a resting pile's contacts that drifted just past
+    settings.DIP_SCREEN of its variation. Taken here with the least of the same cubic over the
+    step (its ends included: no higher than the search's interior minimum) and room of 1e-9 of
+    the terms for the search's own rounding -- a resting pile's contacts that drifted just past
     the hold gap and creep back and forth by far less than it."""
-    c1 = h * r0
-    c2 = 3.0 * (g1 - g0) - h * (2.0 * r0 + r1)
-    c3 = 2.0 * (g0 - g1) + h * (r0 + r1)
+    c0, c1, c2, c3 = hermite_coefficients(g0, r0, g1, r1, h)
     low = min(g0, g1)
-    a, b = 3.0 * c3, 2.0 * c2  # the cubic's slope a s^2 + b s + c1
-    if a != 0.0:
-        disc = b * b - 4.0 * a * c1
-        if disc >= 0.0:
-            q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
-            for s in (q / a, c1 / q if q != 0.0 else q / a):
-                if 0.0 < s < 1.0:
-                    low = min(low, g0 + s * (c1 + s * (c2 + s * c3)))
-    elif b != 0.0 and 0.0 < -c1 / b < 1.0:
-        s = -c1 / b
-        low = min(low, g0 + s * (c1 + s * (c2 + s * c3)))
+    for s in cubic_roots(c1, 2.0 * c2, 3.0 * c3, 0.0, 0.0, 1.0):  # its stationary points
+        low = min(low, c0 + s * (c1 + s * (c2 + s * c3)))
     screen = settings.DIP_SCREEN
     room = 1e-9 * (abs(g0) + abs(g1) + h * (abs(r0) + abs(r1)))
     return (1.0 + screen) * low - screen * max(g0, g1) > room
@@ -245,19 +234,21 @@ def is_quiet(
         if g1 <= floor:  # may have crossed (or returned to) d = 0
             return False
         i, j = body1[k], body2[k]
-        flying = not (rests[i] or rests[j]) and (
-            least_gap_in_flight(k, case, body1, body2, geometry, q0, v0, a0, fixed, h) > floor
-        )  # above the floor all through the step: no dip, and nothing for sampling to find
-        if not flying and mode == OPEN and r0 < 0.0 and v1k > -creep:  # may have dipped below 0
-            if not _screened(g0, r0, g1, v1k, h):  # unless the search would not look
-                return False
         closing = g1 <= g0 or r0 < 0.0
         if closing and (switches[i] or switches[j]):  # may meet at another feature
             return False
+        # may have dipped below 0 between the ends (unless the search would not look)
+        dip = mode == OPEN and r0 < 0.0 and v1k > -creep and not _screened(g0, r0, g1, v1k, h)
         size = min(half_width[i], half_width[j])
         if not math.isfinite(size):
             size = max(radii[i], radii[j])
         travel = (moved(q0, q1, radii, i) + moved(q0, q1, radii, j)) * grow
-        if not flying and travel > fast_pair * size:  # a fast pair: the search samples it
+        sampled = travel > fast_pair * size  # a fast pair: the search samples it
+        if (dip or sampled) and (  # unless it stays above the floor all through the step
+            rests[i]
+            or rests[j]
+            or not least_gap_in_flight(k, case, body1, body2, geometry, q0, v0, a0, fixed, h)
+            > floor
+        ):
             return False
     return True

@@ -1,5 +1,8 @@
 """Where a step's time goes, stage by stage, for 1, 10, 50 and 200 bodies (issue #12, item 1).
 
+The piles of 50 and 200 are packed wall to wall, at rest (bench/steps.py, gap = 0); the 50 discs
+are also timed late in their fall (t = 0.8-0.9 s), where the falling-pile target spends its time.
+
 Each scene is stepped by runtime.World after a warm-up (compiled code loaded, warm starts
 built), under cProfile; the cumulative time of each stage function of the step pipeline
 (runtime/step/stepper.py) is divided by the steps. The stages nest: "frame" (stages 1-4:
@@ -43,6 +46,7 @@ STAGES = [
     ("&nbsp;&nbsp;of which the general path's settle rounds", ("resting.py:settle",)),
     ("integrate (trial step and trial times)", ("integrators.py:_integrate",)),
     ("events: the first impact of each island", ("events.py:first",)),
+    ("contact forces by the general path (in the frame and the stages)", ("forces.py:solve",)),
 ]
 
 
@@ -53,8 +57,9 @@ def scenes(quick: bool) -> list[tuple[str, object, int, int]]:
     return [
         ("1 body: disc in a bowl", bowl, 20, 5 * few),
         ("10 bodies: falling pile (t = 0.2-0.3 s)", falling_pile(10), 200, few),
-        ("50 bodies: resting pile", pile_scene(50), 5, few),
-        ("200 bodies: resting pile", pile_scene(200), 5, few // 2),
+        ("50 bodies: falling pile (t = 0.8-0.9 s)", falling_pile(50), 800, few),
+        ("50 bodies: resting pile, packed", pile_scene(50, gap=0.0), 5, few),
+        ("200 bodies: resting pile, packed", pile_scene(200, gap=0.0), 5, few // 2),
     ]
 
 
@@ -122,7 +127,9 @@ def main(argv: list[str] | None = None) -> int:
         "",
         "Before (the engine at commit 3e92813, Python per contact and per pair; the same "
         "scenes, by module, bench/profile_before.md), unprofiled: disc in a bowl 0.64 ms per "
-        "step, falling pile of 10 3.6 ms, resting pile of 50 3.5 ms, resting pile of 200 65 ms. "
+        "step, falling pile of 10 3.6 ms, resting pile of 50 3.5 ms, resting pile of 200 65 ms "
+        "(those two piles were the gapped ones, which are not at rest, in their first steps; the "
+        "packed piles cost 13.5 ms and 1,231 ms a step before session 12's solver fixes). "
         "The time went to runtime/kernels.py (the kernels called per contact from Python: "
         "17-41 %), NumPy/SciPy calls on tiny arrays (18-27 %), the narrow phase per pair "
         "(2-12 %) and the LCP (2-9 %).",

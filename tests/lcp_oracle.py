@@ -6,6 +6,7 @@ scipy.optimize (nnls), so a test that compares with them checks the solver again
 shares none of its algorithms.
 
 * ``contact_matrix``: J, M^-1 and A for contacts between planar rigid bodies and the ground;
+* ``packed_pile``: a statically indeterminate pile of discs, at rest;
 * ``feasible_b``: b = a0 - A f0 for a chosen solution (f0, a0), so the problem is solvable and
   its acceleration a0 is known (the same for every solution when A is PSD);
 * ``brute_force``: every solution with a nonsingular clamped block, by enumeration (n <= 10);
@@ -59,6 +60,34 @@ def gravity_b(J: np.ndarray, inverse: np.ndarray, gravity=(0.0, -G)) -> np.ndarr
     acc = np.zeros(J.shape[1])
     acc[0::3], acc[1::3] = gravity
     return J @ acc
+
+
+def packed_pile(long_row: int, rows: int):
+    """Discs (radius 1/2, 1 kg) packed hexagonally wall to wall in a box: long rows of
+    ``long_row`` discs touching each other and both walls, short rows of one fewer in the
+    notches. Every contact is central (no torque) and the set is statically indeterminate:
+    its forces are not unique, a = A f + b = 0 for all of them. Returns (A, b, J, M^-1)."""
+    index, contacts, s = {}, [], np.sqrt(3.0) / 2
+    for r in range(rows):
+        for i in range(long_row - r % 2):
+            index[r, i] = len(index)
+    for (r, i), k in index.items():
+        if r == 0:
+            contacts.append(Contact(k, -1, (0.0, 1.0), (0.0, -0.5)))  # the floor
+        if i == 0 and r % 2 == 0:
+            contacts.append(Contact(k, -1, (1.0, 0.0), (-0.5, 0.0)))  # the left wall
+        if i == long_row - 1 and r % 2 == 0:
+            contacts.append(Contact(k, -1, (-1.0, 0.0), (0.5, 0.0)))  # the right wall
+        if (r, i - 1) in index:
+            contacts.append(Contact(k, index[r, i - 1], (1.0, 0.0), (-0.5, 0.0), (0.5, 0.0)))
+        for j, side in ((i - 1 + r % 2, 1.0), (i + r % 2, -1.0)):  # the two below
+            if r > 0 and (r - 1, j) in index:
+                normal = (side * 0.5, s)  # from the disc below, up and across
+                contacts.append(Contact(k, index[r - 1, j], normal,
+                                        (-side * 0.25, -s / 2), (side * 0.25, s / 2)))  # fmt: skip
+    n = len(index)
+    A, J, inverse = contact_matrix(np.ones(n), np.full(n, 0.125), contacts)
+    return A, gravity_b(J, inverse), J, inverse
 
 
 def feasible_b(A, f0, a0) -> np.ndarray:

@@ -213,19 +213,28 @@ def _merged(table, clamped, keys, values):
 
 class Guesses:
     """Contact key -> whether its force was clamped (positive) at its last solve: the warm-start
-    guesses of the force solves (runtime.solve.forces), as sorted parallel arrays."""
+    guesses of the force solves (runtime.solve.forces), as sorted parallel arrays. ``loaded``,
+    when given, is a second such map: whether the contact carried a force (a large island's
+    loaded set, runtime.solve.lcp_loaded); copies carry it along."""
 
-    def __init__(self, keys: np.ndarray | None = None, clamped: np.ndarray | None = None):
+    def __init__(
+        self,
+        keys: np.ndarray | None = None,
+        clamped: np.ndarray | None = None,
+        loaded: Guesses | None = None,
+    ):
         keys = np.zeros(0, np.int64) if keys is None else keys
         clamped = np.zeros(len(keys), bool) if clamped is None else np.asarray(clamped, bool)
         order = np.argsort(keys, kind="stable")
         self.keys, self.clamped = keys[order], clamped[order]
+        self.loaded = loaded
 
     def __len__(self) -> int:
         return len(self.keys)
 
     def copy(self) -> Guesses:
-        return Guesses(self.keys.copy(), self.clamped.copy())
+        loaded = None if self.loaded is None else self.loaded.copy()
+        return Guesses(self.keys.copy(), self.clamped.copy(), loaded)
 
     def get(self, keys: np.ndarray) -> np.ndarray:
         """(m,) the guess of each of ``keys``: False for a contact never solved."""

@@ -142,6 +142,42 @@ def island_csr(jac, body1, body2, inv_mass, fixed, start, stop):
 
 
 @njit
+def island_scaled_jacobian(jac, body1, body2, inv_mass, fixed, start, stop):
+    """B = J W^(1/2) of the contacts start..stop-1, A = B B^T, as CSR arrays (data, indices,
+    indptr) with sorted columns, its non-zero entries only, and its number of columns: three
+    for each moving body of the island (3 * its rank among them + x, y, th). The factor that
+    runtime.solve.lcp_loaded solves an island's forces in body space with."""
+    K = stop - start
+    bodies = np.empty(2 * K, np.int64)
+    count = 0
+    for a in range(K):
+        for body in (body1[start + a], body2[start + a]):
+            if not fixed[body]:
+                bodies[count] = body
+                count += 1
+    moving = np.unique(bodies[:count])
+    data, indices = np.empty(6 * K), np.empty(6 * K, np.int64)
+    indptr = np.zeros(K + 1, np.int64)
+    n = 0
+    for a in range(K):
+        k = start + a
+        i, j = body1[k], body2[k]
+        sides = (0, 3) if i < j else (3, 0)
+        for side in sides:
+            body = i if side == 0 else j
+            if fixed[body]:
+                continue
+            column = 3 * np.searchsorted(moving, body)
+            for c in range(3):
+                value = jac[k, side + c] * np.sqrt(inv_mass[body, c])
+                if value != 0.0:
+                    data[n], indices[n] = value, column + c
+                    n += 1
+        indptr[a + 1] = n
+    return data[:n], indices[:n], indptr, 3 * moving.size
+
+
+@njit
 def free_rates(jac, body1, body2, bias, free_acc, out):
     """out[k] = J_k a0 + bias_k: b of every contact."""
     for k in range(bias.size):

@@ -159,5 +159,9 @@ def carry(memory: tuple, old: Layout, new: Layout, stepper: Stepper, own: int) -
     stepper.held = key_set(keys(held)[1])
     stepper.recent = key_set(keys(recent)[1])
     kept, made = keys(guesses.keys)
-    stepper.forces.memory = Guesses(made, guesses.clamped[kept])
+    loaded = guesses.loaded
+    if loaded is not None:
+        loaded_kept, loaded_made = keys(loaded.keys)
+        loaded = Guesses(loaded_made, loaded.clamped[loaded_kept])
+    stepper.forces.memory = Guesses(made, guesses.clamped[kept], loaded)
     stepper.evaluations = evaluations

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from lcp_oracle import Contact, G, contact_matrix, gravity_b, row_violation
+from lcp_oracle import Contact, G, contact_matrix, gravity_b, packed_pile, row_violation
 from scipy.optimize import lsq_linear
 
 from runtime import settings
@@ -213,34 +213,6 @@ def test_sparse_path_cold_and_warm(duplicated: bool) -> None:
     assert stats["paths"] == {"sparse": 1}
 
 
-def _packed_pile(long_row: int, rows: int):
-    """Discs (radius 1/2, 1 kg) packed hexagonally wall to wall in a box: long rows of
-    ``long_row`` discs touching each other and both walls, short rows of one fewer in the
-    notches. Every contact is central (no torque) and the set is statically indeterminate:
-    its forces are not unique, a = A f + b = 0 for all of them."""
-    index, contacts, s = {}, [], np.sqrt(3.0) / 2
-    for r in range(rows):
-        for i in range(long_row - r % 2):
-            index[r, i] = len(index)
-    for (r, i), k in index.items():
-        if r == 0:
-            contacts.append(Contact(k, -1, (0.0, 1.0), (0.0, -0.5)))  # the floor
-        if i == 0 and r % 2 == 0:
-            contacts.append(Contact(k, -1, (1.0, 0.0), (-0.5, 0.0)))  # the left wall
-        if i == long_row - 1 and r % 2 == 0:
-            contacts.append(Contact(k, -1, (-1.0, 0.0), (0.5, 0.0)))  # the right wall
-        if (r, i - 1) in index:
-            contacts.append(Contact(k, index[r, i - 1], (1.0, 0.0), (-0.5, 0.0), (0.5, 0.0)))
-        for j, side in ((i - 1 + r % 2, 1.0), (i + r % 2, -1.0)):  # the two below
-            if r > 0 and (r - 1, j) in index:
-                normal = (side * 0.5, s)  # from the disc below, up and across
-                contacts.append(Contact(k, index[r - 1, j], normal,
-                                        (-side * 0.25, -s / 2), (side * 0.25, s / 2)))  # fmt: skip
-    n = len(index)
-    A, J, inverse = contact_matrix(np.ones(n), np.full(n, 0.125), contacts)
-    return A, gravity_b(J, inverse)
-
-
 @pytest.mark.parametrize("warm", [True, False])
 def test_sparse_path_on_a_statically_indeterminate_pile(warm: bool) -> None:
     """A packed pile of 53 discs (157 contacts, rank 114), warm-started from every contact
@@ -249,7 +221,7 @@ def test_sparse_path_on_a_statically_indeterminate_pile(warm: bool) -> None:
     solver's O(m^3) fallback. Reference, apart from the solver: min |f|^2 over f >= 0 with
     A f = -b, by scipy's bounded least squares on the equations weighted by 1e5 (off by
     ~|f| / 1e10)."""
-    A, b = _packed_pile(10, 6)
+    A, b, _, _ = packed_pile(10, 6)
     m = len(b)
     assert np.linalg.matrix_rank(A) < m  # redundant
     weighted = np.vstack([1e5 * A, np.eye(m)])

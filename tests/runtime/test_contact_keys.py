@@ -91,7 +91,7 @@ def test_key_sets_and_guesses_behave_as_python_sets_and_dicts(packed):
     def key(value: int):
         return value if packed else (value % 7, value // 7, 0, value % 3, 1, 2)
 
-    memory, oracle = Guesses(), {}
+    memory, oracle = Guesses(loaded=Guesses()), {}
     for _ in range(60):
         values = rng.choice(200, size=rng.integers(0, 40), replace=False).tolist()
         keys = _as_keys([key(v) for v in values], packed)
@@ -108,9 +108,13 @@ def test_key_sets_and_guesses_behave_as_python_sets_and_dicts(packed):
         at = find(asked, keys, np.argsort(keys))
         positions = {k: p for p, k in enumerate(keys.tolist())}
         assert at.tolist() == [positions.get(k, -1) for k in asked.tolist()]
+        memory.loaded.update(keys, ~clamped)  # the second map (loaded sets), kept apart
+        assert dict(memory.loaded.items()) == {k: not v for k, v in oracle.items()}
     copy = memory.copy()
     memory.update(_as_keys([key(0)], packed), np.array([not oracle.get(key(0), False)]))
+    memory.loaded.update(_as_keys([key(0)], packed), np.array([oracle.get(key(0), False)]))
     assert dict(copy.items()) == oracle  # a copy is not changed by later updates
+    assert dict(copy.loaded.items()) == {k: not v for k, v in oracle.items()}
 
 
 def test_bodies_of_keys_match_their_parts():

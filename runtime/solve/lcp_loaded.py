@@ -19,7 +19,10 @@ The method. Write A = B B^T with B = J W^(1/2) (runtime.solve.assembly.island_sc
   runtime.solve.lcp_envelope), two solves, and the checks.
 
 The result is accepted only if every LCP condition holds to settings.LCP_SHARP, as a warm start
-must. Otherwise the result is None and the pivoting solver takes the island (runtime.solve.lcp).
+must, and the multipliers have their signs. Those checks alone certify it: any z with f_P = B_P z
+that passes them proves f the least-norm solution, however z was found. So the singular-K and
+row-count tests are early exits, not safeguards. Otherwise the result is None and the pivoting
+solver takes the island (runtime.solve.lcp).
 """
 
 from __future__ import annotations
@@ -42,6 +45,8 @@ def solve_loaded(B: tuple, columns: int, A: tuple, b: np.ndarray, loaded: np.nda
     indices, indptr) with sorted columns, B with ``columns`` columns -- whose least-norm forces
     are positive exactly on the rows ``loaded``; clamped: the held rows (settings.LCP_TOL).
     None if that set does not give the solution (see the module docstring)."""
+    if not _enough_rows(B[1], B[2], loaded, columns):
+        return None
     K = normal_matrix(*B, loaded, columns)
     pattern = sp.csr_matrix((K[0], K[1], K[2]), shape=(columns, columns))
     order = reverse_cuthill_mckee(pattern, symmetric_mode=True).astype(np.int64)
@@ -50,6 +55,24 @@ def solve_loaded(B: tuple, columns: int, A: tuple, b: np.ndarray, loaded: np.nda
     if not _solve(K, order, B, A, b, loaded, f, clamped):
         return None
     return f, clamped
+
+
+@njit
+def _enough_rows(indices, indptr, loaded, columns):
+    """Whether the loaded rows are at least as many as the columns they touch: else K is
+    singular (a landing pile's loaded rows are independent, fewer than its bodies' degrees of
+    freedom) and building and factoring it would be wasted (it was: 0.25 ms a solve, 13 % of a
+    landing 200-disc pile's step)."""
+    touched = np.zeros(columns, np.bool_)
+    rows, count = 0, 0
+    for r in range(indptr.size - 1):
+        if loaded[r]:
+            rows += 1
+            for p in range(indptr[r], indptr[r + 1]):
+                if not touched[indices[p]]:
+                    touched[indices[p]] = True
+                    count += 1
+    return rows >= count
 
 
 @njit

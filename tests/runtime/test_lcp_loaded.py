@@ -94,15 +94,19 @@ def test_a_loaded_set_whose_rows_cannot_all_be_held_is_refused(pile) -> None:
     assert lcp_loaded.solve_loaded(B, columns, A_csr, pushed, loaded) is None
 
 
-def test_a_loaded_set_that_does_not_fix_the_bodies_is_refused() -> None:
-    """A disc on a slope (one contact, normal not along a body axis): K = B^T B has rank 1 on
-    the two columns the contact touches, so the body-space solve has no unique v; the
-    solution (f = -b / A) is left to the pivoting solver."""
+@pytest.mark.parametrize("copies", [1, 2])
+def test_a_loaded_set_that_does_not_fix_the_bodies_is_refused(copies: int) -> None:
+    """A disc on a slope, its contact (normal not along a body axis) loaded once or twice (a
+    duplicated contact): K = B^T B has rank 1 on the two columns the rows touch, so the
+    body-space solve has no unique v. One row is fewer than the columns (refused before K is
+    built); two equal rows are as many, and the factorization finds K singular. The solution
+    is left to the pivoting solver."""
     normal = (np.sin(0.3), np.cos(0.3))
-    A, J, inverse = contact_matrix([1.0], [0.1], [Contact(0, -1, normal, (0.0, -0.5))])
+    contacts = [Contact(0, -1, normal, (0.0, -0.5))] * copies
+    A, J, inverse = contact_matrix([1.0], [0.1], contacts)
     b = gravity_b(J, inverse)
     B, columns, A_csr = _problem(J, inverse, b)
-    assert lcp_loaded.solve_loaded(B, columns, A_csr, b, np.ones(1, bool)) is None
+    assert lcp_loaded.solve_loaded(B, columns, A_csr, b, np.ones(copies, bool)) is None
 
 
 def test_stepping_a_packed_pile_with_and_without_the_loaded_set() -> None:

@@ -80,6 +80,18 @@ def island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A):
 
 
 @njit
+def sort_row(indices, data, start, stop):
+    """Entries start..stop-1 of a CSR row being built, sorted by column in place (insertion
+    sort: a row has a handful of entries)."""
+    for p in range(start + 1, stop):
+        col, val, q = indices[p], data[p], p
+        while q > start and indices[q - 1] > col:
+            indices[q], data[q] = indices[q - 1], data[q - 1]
+            q -= 1
+        indices[q], data[q] = col, val
+
+
+@njit
 def island_csr(jac, body1, body2, inv_mass, fixed, start, stop):
     """The same A as island_matrix for contacts start..stop-1, as CSR arrays (data, indices,
     indptr) with sorted columns and every diagonal entry stored: a large island's A is sparse
@@ -131,12 +143,7 @@ def island_csr(jac, body1, body2, inv_mass, fixed, start, stop):
                     indices[n], data[n], slot[b] = b, 0.0, n
                     n += 1
                 data[slot[b]] += s
-        for p in range(row_start + 1, n):  # insertion sort of the row by column
-            col, val, q = indices[p], data[p], p
-            while q > row_start and indices[q - 1] > col:
-                indices[q], data[q] = indices[q - 1], data[q - 1]
-                q -= 1
-            indices[q], data[q] = col, val
+        sort_row(indices, data, row_start, n)
         indptr[a + 1] = n
     return data[:n], indices[:n], indptr
 

@@ -36,6 +36,7 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import lcp_envelope as env
+from runtime.solve.assembly import sort_row
 
 _SHARP, _TOL, _DEPENDENT = settings.LCP_SHARP, settings.LCP_TOL, settings.LCP_DEPENDENT
 
@@ -113,12 +114,7 @@ def normal_matrix(data, indices, indptr, loaded, columns):
                     slot[j], out_idx[n], out_val[n] = n, j, 0.0
                     n += 1
                 out_val[slot[j]] += v * data[p]
-        for p in range(row_start + 1, n):  # insertion sort of the row by column
-            col, val, q = out_idx[p], out_val[p], p
-            while q > row_start and out_idx[q - 1] > col:
-                out_idx[q], out_val[q] = out_idx[q - 1], out_val[q - 1]
-                q -= 1
-            out_idx[q], out_val[q] = col, val
+        sort_row(out_idx, out_val, row_start, n)
         out_ptr[c + 1] = n
     return out_val[:n], out_idx[:n], out_ptr
 

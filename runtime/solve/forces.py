@@ -51,7 +51,8 @@ class ForceProblem:
     """Resting contacts grouped by island: ``order`` puts the contacts given to
     :meth:`ContactForces.problem` in island order, island g is ``offsets[g]:offsets[g + 1]``
     of that order; ``guess`` is each contact's clamped state (the warm start, updated by
-    every solve), ``labels`` its island."""
+    every solve), ``labels`` its island; ``loaded`` whether it carried a force at its last
+    solve (large islands' second warm start, runtime.solve.lcp_loaded; None: not used)."""
 
     contacts: Contacts
     order: np.ndarray
@@ -59,6 +60,7 @@ class ForceProblem:
     guess: np.ndarray
     labels: np.ndarray
     keys: np.ndarray  # of the contacts (runtime.collide.contact_keys)
+    loaded: np.ndarray | None = None
 
     def subset(self, keep: np.ndarray) -> ForceProblem:
         """The problem of the contacts ``keep`` (a bool mask over the problem's rows), whole
@@ -72,6 +74,7 @@ class ForceProblem:
             self.guess[index].copy(),
             self.labels[index],
             self.keys[index],
+            None if self.loaded is None else self.loaded[index].copy(),
         )
 
 
@@ -102,11 +105,14 @@ class ContactForces:
         ordered = contacts.take(order)
         keys = keys[order]
         guess = self.memory.get(keys)
-        return ForceProblem(ordered, order, offsets, guess, island_of_contact[order], keys)
+        loaded = None if self.memory.loaded is None else self.memory.loaded.get(keys)
+        return ForceProblem(ordered, order, offsets, guess, island_of_contact[order], keys, loaded)
 
     def remember(self, problem: ForceProblem) -> None:
-        """Keep the problem's clamped sets as the guesses of later problems."""
+        """Keep the problem's clamped (and loaded) sets as the guesses of later problems."""
         self.memory.update(problem.keys, problem.guess)
+        if problem.loaded is not None and self.memory.loaded is not None:
+            self.memory.loaded.update(problem.keys, problem.loaded)
 
     def solve(self, problem: ForceProblem, rows: Rows) -> ForceSolution:
         """Accelerations and forces for the problem's contacts with kernel ``rows`` (in the
@@ -131,8 +137,7 @@ class ContactForces:
             start, stop = int(offsets[g]), int(offsets[g + 1])
             K = stop - start
             A = assembly.island_csr(jac, b1, b2, self.inverse_mass, self.fixed, start, stop)
-            keys = problem.keys[start:stop]
-            found = self._from_loaded_set(rows, A, rates[start:stop], keys, start, stop)
+            found = self._from_loaded_set(problem, rows, A, rates[start:stop], start, stop)
             try:
                 f, clamped = found or lcp.solve_warm(
                     sparse.csr_array(A, shape=(K, K)), rates[start:stop],
@@ -143,16 +148,15 @@ class ContactForces:
                 raise lcp.ContactSolverError(str(exc), rows_named) from None
             forces[start:stop] = f
             problem.guess[start:stop] = clamped
-            if self.memory.loaded is not None:
-                self.memory.loaded.update(keys, f > 0.0)
+            if problem.loaded is not None:
+                problem.loaded[start:stop] = f > 0.0
         assembly.add_forces(jac, b1, b2, self.inverse_mass, forces, acc)
         return ForceSolution(acc, forces, rates)
 
-    def _from_loaded_set(self, rows: Rows, A, b, keys, start: int, stop: int):
+    def _from_loaded_set(self, problem: ForceProblem, rows: Rows, A, b, start: int, stop: int):
         """(f, clamped) of a large island from the loaded set of its last solve, or None
         (never solved, or the set has changed): runtime.solve.lcp_loaded."""
-        memory = self.memory.loaded
-        loaded = memory.get(keys) if memory is not None else None
+        loaded = None if problem.loaded is None else problem.loaded[start:stop]
         if loaded is None or not loaded.any():
             return None
         *B, columns = assembly.island_scaled_jacobian(

@@ -108,7 +108,9 @@ class FrictionalForces(ContactForces):
         if plain.any():
             sub = problem.subset(plain)
             base = super().solve(sub, rows.take(plain))
-            problem.guess[plain] = sub.guess  # the warm start the solve updated
+            problem.guess[plain] = sub.guess  # the warm starts the solve updated
+            if problem.loaded is not None:
+                problem.loaded[plain] = sub.loaded
             acc += base.accelerations - self.free_acceleration
             forces[plain], rates[plain] = base.forces, base.free_rates
         bias = rows.bias

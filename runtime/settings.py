@@ -152,6 +152,12 @@ STICK_SPEED = 1e-9  # m/s: a frictional contact whose tangential speed |v_t| is 
 # sticks if the forces allow it (the friction LCP decides); faster, it slides against v_t. As
 # TOUCH for gaps: a located slip -> stick leaves |v_t| a thousandth of it (STICK_LOCATE)
 STICK_LOCATE = 1e-3  # relative to STICK_SPEED: the |v_t| a located slip -> stick must reach
+STICK_DRIFT = 1e-5  # relative to the free-fall speed g dt of one step: how fast the integrator
+# may let a sticking contact creep in a step (RK4 leaves 2-3e-8 m/s at dt = 0.05 s on a disc
+# rolling in a bowl) and have it still stick at the next frame, its creep removed by
+# runtime.step.friction_hold, instead of sliding for the ~1e-8 s friction takes to stop it -- a
+# located slip -> stick and a second trial in every step. Sliding that slowly would stop within
+# (STICK_DRIFT g dt)^2 / (2 mu g) of where it is: 2.5e-12 m at dt = 0.05 s and mu = 0.5
 SLIP_ONSET = 1e-9  # relative to the problem's scale (largest |b|, or g): a sticking contact
 # whose slack lambda (the tangential acceleration it would take) exceeds this starts to slide;
 # rounding of the Lemke tableau leaves ~1e-15 of it

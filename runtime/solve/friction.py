@@ -4,7 +4,9 @@ Why modes: a trial step must integrate a smooth right-hand side, and friction is
 while no contact changes between sticking and sliding. So at a frame (the start of a step or
 sub-step) each frictional resting contact gets a mode, kept for the whole trial:
 
-* |v_t| > settings.STICK_SPEED: sliding against v_t (slide = sign v_t, f_t = -slide mu f_n);
+* |v_t| > the stick speed: sliding against v_t (slide = sign v_t, f_t = -slide mu f_n); the stick
+  speed is settings.STICK_SPEED, or the creep the integrator may leave in a step of the
+  stepper's length (settings.STICK_DRIFT, :attr:`FrictionalForces.stick_speed`);
 * otherwise sticking, unless the friction LCP (runtime.solve.friction_lcp) says it slips at once
   (its slack lambda > settings.SLIP_ONSET: the force needed to hold it exceeds mu f_n); then it
   slides the way it accelerates. Decided again until no sticking contact slips (a contact that
@@ -60,7 +62,11 @@ class FrictionSolution(ForceSolution):
 
 
 class FrictionalForces(ContactForces):
-    """ContactForces with Coulomb friction (see the module docstring)."""
+    """ContactForces with Coulomb friction (see the module docstring). ``stick_speed``: the
+    largest |v_t| that sticks, set by the stepper for its step length at each frame
+    (runtime.step.classify.Limits)."""
+
+    stick_speed = settings.STICK_SPEED
 
     def problem(self, contacts, island_of_contact, keys) -> FrictionProblem:
         base = super().problem(contacts, island_of_contact, keys)
@@ -75,7 +81,7 @@ class FrictionalForces(ContactForces):
 
     def _decide(self, problem: FrictionProblem, rows: FrictionRows) -> np.ndarray:
         v_t = rows.tangent_velocity
-        slide = np.where((rows.mu > 0) & (np.abs(v_t) > settings.STICK_SPEED), np.sign(v_t), 0.0)
+        slide = np.where((rows.mu > 0) & (np.abs(v_t) > self.stick_speed), np.sign(v_t), 0.0)
         slow = (slide != 0) & (np.abs(v_t) <= settings.RESTING_SPEED)
         for _ in range(len(slide) + 1):
             try:

@@ -78,6 +78,7 @@ class Limits:
     resting_speed: float  # approach speed below which impacts are plastic
     separation_speed: float  # a touching contact separating slower than this rests
     creep_speed: float  # approach left after impacts (rounding level)
+    stick_speed: float = settings.STICK_SPEED  # a frictional contact this slow sticks
 
     @classmethod
     def for_step(
@@ -85,7 +86,9 @@ class Limits:
     ) -> Limits:
         """The limits of steps of ``h`` under gravity |g| = ``gravity`` (:func:`hold_gap`)."""
         hold = hold_gap(float(h), float(gravity), float(touch), float(tolerance))
-        return cls(touch, hold, resting_speed, resting_speed, settings.CREEP * resting_speed)
+        stick = max(settings.STICK_SPEED, settings.STICK_DRIFT * float(gravity) * float(h))
+        creep = settings.CREEP * resting_speed
+        return cls(touch, hold, resting_speed, resting_speed, creep, stick)
 
 
 @njit

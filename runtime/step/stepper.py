@@ -172,6 +172,8 @@ class Stepper:
         when every island is small (runtime.step.compiled_frame), else stage by stage."""
         if margin is None:
             margin = sweep.margins(v, h, self.radii, self.moving, self.gravity)
+        if self.friction is not None:
+            self.forces.stick_speed = limits.stick_speed
         contacts = self.collision.swept(q, margin, active)
         keys = self.collision.keys(contacts)
         done = self._compiled_frame(contacts, keys, q, v, margin, limits) if self.compiled else None
@@ -494,9 +496,12 @@ class _IslandTrajectories:
         if island not in self.made:
             problem, stepper, trial = self.resting.problem, self.stepper, self.trial
             keep = self.labels[_moving_body(problem.contacts, stepper.fixed)] == island
-            self.made[island] = stepper.trajectory(
-                problem.subset(keep), trial.q0, trial.v0, trial.h, trial.a0
-            )
+            if keep.all():  # every resting contact is the island's: its trajectory is the trial
+                self.made[island] = trial
+            else:
+                self.made[island] = stepper.trajectory(
+                    problem.subset(keep), trial.q0, trial.v0, trial.h, trial.a0
+                )
         return self.made[island]
 
 

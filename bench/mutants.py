@@ -122,6 +122,7 @@ MUTANTS: list[Mutant] = [
     Mutant("lcp:least-norm-pulls", "runtime/solve/lcp_minnorm.py", "if jR[c] or u > 0.0:\n            fR[c]", "if jR[c] or u != 0.0:\n            fR[c]", LCP, "least norm: a redundant contact's force not clipped at 0"),
     Mutant("reduced:no-drop", REDUCED, "if dl[a] < 0.0 and -lam[a] / dl[a] < t_drop:", "if dl[a] < 0.0 and -lam[a] / dl[a] < t_drop and False:", LCP, "least norm (reduced QP): an active constraint whose multiplier turns negative is never dropped"),
     Mutant("reduced:redundant-weight-dropped", REDUCED, "H[a, a] += 1.0 / wR[a]", "H[a, a] += 0.0 / wR[a]", LCP, "least norm (reduced QP): the redundant rows' own forces left out of the norm"),
+    Mutant("reduced:infeasible-too-soon", REDUCED, "if rate <= 1e-12 * curvature:", "if rate <= 0.5 * curvature:", LCP, "least norm (reduced QP): a constraint that a step can still meet taken as one it cannot (infeasible, the dual Newton method skipped)"),
     Mutant("reduced:rounding-enforced", REDUCED, "floor = max(floor, _MET * size)", "floor = 0.0", LCP, "least norm (reduced QP): a force >= 0 enforced on a row whose g is rounding of 0 (large opposed forces)"),
     Mutant("lcp:guess-single-row-pulls", ASSEMBLY, "if f[k] < 0.0:", "if f[k] < -np.inf:", GUESS, "the engine's guessed island with one clamped row keeps a pulling force (a body that should lift off)"),
     Mutant("lcp:guess-one-row-island-pulls", ASSEMBLY, "if f < 0.0:", "if f < -np.inf:", GUESS, "the engine's guessed one-row island keeps a pulling force (a body that should lift off)"),

@@ -313,9 +313,10 @@ def test_a_disc_with_spin_on_a_floor_ends_rolling_at_two_v0_minus_r_omega0_over_
     assert abs(run.velocities[-1, 1, 2] * r / -rolling - 1.0) < 1e-9
 
 
-def test_a_disc_rolling_in_a_bowl_is_a_pendulum_of_length_r_minus_r_in_two_thirds_g():
-    """Centre angle against solve_ivp's phi'' = -(2 g / 3) sin(phi) / (R - r) over 3 s, 0.5 rad
-    amplitude: 1e-8 rad (RK4's error on this non-polynomial motion at dt = 1 ms is ~1e-10)."""
+def rolling_in_a_bowl(dt: float, record_every: int = 1):
+    """A disc (r = 0.2) rolling in a bowl (R = 1, mu = 1) from 0.5 rad, 3 s of RK4 steps of
+    dt: (run, its centre angle, solve_ivp's pendulum phi'' = -(2 g / 3) sin(phi) / (R - r) at
+    the records, the contact point's speed along the bowl)."""
     R, r, phi0 = 1.0, 0.2, 0.5
     scene = scene_from_dict({"body": [
         {"name": "bowl", "fixed": True, "friction": 1.0,
@@ -323,16 +324,23 @@ def test_a_disc_rolling_in_a_bowl_is_a_pendulum_of_length_r_minus_r_in_two_third
         {"name": "disc", "shape": {"type": "disc", "radius": r}, "density": 100.0,
          "friction": 1.0, "position": [(R - r) * math.sin(phi0), -(R - r) * math.cos(phi0)]},
     ]})  # fmt: skip
-    run = runtime.simulate(scene, duration=3.0, dt=1e-3, record_every=10)
+    run = runtime.simulate(scene, duration=3.0, dt=dt, record_every=record_every)
     phi = np.arctan2(run.poses[:, 1, 0], -run.poses[:, 1, 1])
     ref = solve_ivp(
         lambda _t, y: [y[1], -2.0 / 3.0 * G * math.sin(y[0]) / (R - r)],
         (0.0, float(run.t[-1])), [phi0, 0.0], method="DOP853", rtol=1e-12, atol=1e-14,
         t_eval=run.t,
     ).y[0]  # fmt: skip
-    assert np.max(np.abs(phi - ref)) < 1e-8
     tangent = np.column_stack([np.cos(phi), np.sin(phi)])
     slip = np.einsum("kc,kc->k", run.velocities[:, 1, :2], tangent) + r * run.velocities[:, 1, 2]
+    return run, phi, ref, slip
+
+
+def test_a_disc_rolling_in_a_bowl_is_a_pendulum_of_length_r_minus_r_in_two_thirds_g():
+    """Centre angle against solve_ivp's pendulum over 3 s, 0.5 rad amplitude: 1e-8 rad (RK4's
+    error on this non-polynomial motion at dt = 1 ms is ~1e-10)."""
+    _, phi, ref, slip = rolling_in_a_bowl(1e-3, record_every=10)
+    assert np.max(np.abs(phi - ref)) < 1e-8
     assert np.max(np.abs(slip)) < 1e-12  # the contact point's velocity: rolling
 
 
@@ -343,24 +351,9 @@ def test_a_disc_rolling_in_a_bowl_in_long_steps_sticks_through_the_integrators_c
     still sticks at the next frame (settings.STICK_DRIFT), its creep removed there: no
     slip -> stick is located (there were 37 and 59 in these runs, one trial more each), and
     the angle keeps RK4's error against the pendulum (1.33e-5 and 3.5e-7 rad, as with them)."""
-    R, r, phi0 = 1.0, 0.2, 0.5
-    scene = scene_from_dict({"body": [
-        {"name": "bowl", "fixed": True, "friction": 1.0,
-         "shape": {"type": "bowl", "radius": R, "start_angle": -math.pi, "end_angle": 0.0}},
-        {"name": "disc", "shape": {"type": "disc", "radius": r}, "density": 100.0,
-         "friction": 1.0, "position": [(R - r) * math.sin(phi0), -(R - r) * math.cos(phi0)]},
-    ]})  # fmt: skip
-    run = runtime.simulate(scene, duration=3.0, dt=dt)
+    run, phi, ref, slip = rolling_in_a_bowl(dt)
     assert len(run.impact_times) == 0
-    phi = np.arctan2(run.poses[:, 1, 0], -run.poses[:, 1, 1])
-    ref = solve_ivp(
-        lambda _t, y: [y[1], -2.0 / 3.0 * G * math.sin(y[0]) / (R - r)],
-        (0.0, float(run.t[-1])), [phi0, 0.0], method="DOP853", rtol=1e-12, atol=1e-14,
-        t_eval=run.t,
-    ).y[0]  # fmt: skip
     assert np.max(np.abs(phi - ref)) < bound
-    tangent = np.column_stack([np.cos(phi), np.sin(phi)])
-    slip = np.einsum("kc,kc->k", run.velocities[:, 1, :2], tangent) + r * run.velocities[:, 1, 2]
     assert 1e-9 < np.max(np.abs(slip)) < settings.STICK_DRIFT * G * dt  # one step's creep
 
 

@@ -480,8 +480,10 @@ class Stepper:
 
 
 class _IslandTrajectories:
-    """island -> its own trajectory over the trial (the trial itself when not split): the
-    trial integrated again with only that island's resting contacts, made on first use."""
+    """island -> its own trajectory over the trial: the trial integrated again with only that
+    island's resting contacts, made on first use -- or the trial itself, when not split or when
+    the island holds every resting contact (its trajectory would be the trial's, integrated
+    again: a friction scene's stick -> slip check at the step's end did that every step)."""
 
     def __init__(
         self, stepper: Stepper, trial: Trajectory, resting: RestingSolution, labels, split

@@ -35,8 +35,7 @@ from runtime import settings
 from runtime.compiled import njit
 from runtime.solve import lcp_factor as fac
 from runtime.solve.lcp_baraff import is_solution, refine
-from runtime.solve.lcp_reduced import FAILED as REDUCED_FAILED
-from runtime.solve.lcp_reduced import SOLVED, reduced_outcome
+from runtime.solve.lcp_reduced import INFEASIBLE, SOLVED, reduced_outcome
 
 _STEP_SLOPE = 1e-4  # Armijo: a step must gain this fraction of its first-order promise
 _CONVERGED = settings.LCP_LEAST_NORM_DONE
@@ -134,8 +133,10 @@ def least_distance(T, g, wB, wR, jB, jR, fB, fR):
     (runtime.solve.lcp_reduced), or by the dual Newton method where that fails for another
     reason than a proof that the problem is infeasible (False then)."""
     outcome = reduced_outcome(T, g, wB, wR, jB, jR, fB, fR)
-    if outcome != REDUCED_FAILED:
-        return outcome == SOLVED
+    if outcome == SOLVED:
+        return True
+    if outcome == INFEASIBLE:
+        return False
     return dual_newton(T, g, wB, wR, jB, jR, fB, fR)
 
 

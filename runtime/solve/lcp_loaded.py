@@ -28,6 +28,7 @@ solver takes the island (runtime.solve.lcp).
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 import scipy.sparse as sp
@@ -49,13 +50,23 @@ def solve_loaded(B: tuple, columns: int, A: tuple, b: np.ndarray, loaded: np.nda
     if not _enough_rows(B[1], B[2], loaded, columns):
         return None
     K = normal_matrix(*B, loaded, columns)
-    pattern = sp.csr_matrix((K[0], K[1], K[2]), shape=(columns, columns))
-    order = reverse_cuthill_mckee(pattern, symmetric_mode=True).astype(np.int64)
+    order = _fill_reducing_order(K[1].tobytes(), K[2].tobytes(), columns)
     m = b.size
     f, clamped = np.empty(m), np.empty(m, np.bool_)
     if not _solve(K, order, B, A, b, loaded, f, clamped):
         return None
     return f, clamped
+
+
+@lru_cache(maxsize=16)
+def _fill_reducing_order(indices: bytes, indptr: bytes, columns: int) -> np.ndarray:
+    """The reverse Cuthill-McKee order of K's pattern (CSR index arrays as bytes). Cached: a
+    resting island's pattern stays the same from solve to solve, and the ordering cost 0.12 ms
+    of a 200-disc pile's 0.42 ms solve (most of the rest is the factor)."""
+    idx, ptr = np.frombuffer(indices, np.int64), np.frombuffer(indptr, np.int64)
+    pattern = sp.csr_matrix((np.ones(idx.size), idx, ptr), shape=(columns, columns))
+    order = reverse_cuthill_mckee(pattern, symmetric_mode=True).astype(np.int64)
+    return order
 
 
 @njit

@@ -13,7 +13,7 @@ typed here.
 from __future__ import annotations
 
 import importlib
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from types import ModuleType
 
@@ -143,6 +143,24 @@ class RowEvaluator:
                     poses, velocities, b1, b2, geometry, static2, members, rate
                 )
         return gap, rate
+
+    def watch(self, contacts: Contacts, k: int) -> Callable[[np.ndarray, np.ndarray], tuple]:
+        """(poses, velocities) -> (d, d') of contact k alone, the same numbers as gap_and_rate's
+        for it. Why: the event search asks for one contact at many instants, and taking it out
+        of the set first (eight fancy indexings) and grouping it by case cost 25 us a call, more
+        than the kernels (a landing 50-disc pile made 8,000 such calls per 100 steps)."""
+        module = self._module(int(contacts.case[k]))
+        b1, b2, geometry = contacts.body1, contacts.body2, contacts.geometry
+        static2 = self.fixed[b2]
+        members = np.array([k])
+        gap, rate = np.zeros(len(contacts)), np.zeros(len(contacts))
+
+        def at(poses: np.ndarray, velocities: np.ndarray) -> tuple[float, float]:
+            module.batch_gap(poses, b1, b2, geometry, members, gap)
+            module.batch_gap_velocity(poses, velocities, b1, b2, geometry, static2, members, rate)
+            return float(gap[k]), float(rate[k])
+
+        return at
 
 
 def _check_finite(jacobian: np.ndarray, bias: np.ndarray, velocities: np.ndarray) -> None:

@@ -54,7 +54,7 @@ class Bracket:
     hi: float
     guess: float
     kind: str
-    cubic: np.ndarray  # the Hermite cubic of d over [t0, t0 + span], in s = (t - t0) / span
+    cubic: tuple[float, ...]  # the Hermite cubic of d over [t0, t0 + span], in s = (t - t0) / span
     t0: float
     span: float
 
@@ -71,11 +71,6 @@ def hermite_coefficients(g0, v0, g1, v1, h):
     c2 = 3.0 * (g1 - g0) - h * (2.0 * v0 + v1)
     c3 = 2.0 * (g0 - g1) + h * (v0 + v1)
     return g0, h * v0, c2, c3
-
-
-def hermite(g0: float, v0: float, g1: float, v1: float, h: float) -> np.ndarray:
-    """:func:`hermite_coefficients` as an array."""
-    return np.array(hermite_coefficients(g0, v0, g1, v1, h))
 
 
 @njit
@@ -130,31 +125,29 @@ def cubic_roots(c0, c1, c2, c3, lo, hi):
     return roots
 
 
-def _real_roots(c: np.ndarray, lo: float, hi: float) -> list[float]:
-    """Real roots in [lo, hi] of the polynomial with coefficients c (lowest first, up to a
-    cubic), sorted."""
-    c = np.asarray(c, dtype=float)
-    padded = np.zeros(4)
-    padded[: c.size] = c
-    if not np.any(padded[1:]):
+def _real_roots(c, lo: float, hi: float) -> list[float]:
+    """Real roots in [lo, hi] of the polynomial with coefficients c (a sequence, lowest first,
+    up to a cubic), sorted."""
+    c0, c1, c2, c3 = (*(float(x) for x in c), 0.0, 0.0, 0.0)[:4]
+    if not (c1 or c2 or c3):
         return []
-    return list(cubic_roots(*padded.tolist(), float(lo), float(hi)))
+    return list(cubic_roots(c0, c1, c2, c3, float(lo), float(hi)))
 
 
-def _extremum(c: np.ndarray, minimum: bool) -> float | None:
+def _extremum(c, minimum: bool) -> float | None:
     """s in (0, 1) of the cubic's interior minimum (or maximum), if it has one."""
-    for s in _real_roots(np.array([c[1], 2.0 * c[2], 3.0 * c[3]]), 0.0, 1.0):
+    for s in _real_roots((c[1], 2.0 * c[2], 3.0 * c[3]), 0.0, 1.0):
         curvature = 2.0 * c[2] + 6.0 * c[3] * s
         if 0.0 < s < 1.0 and (curvature > 0 if minimum else curvature < 0):
             return s
     return None
 
 
-def _value(c: np.ndarray, s: float) -> float:
+def _value(c, s: float) -> float:
     return float(c[0] + s * (c[1] + s * (c[2] + s * c[3])))
 
 
-def _first_root(c: np.ndarray, lo: float, hi: float) -> float:
+def _first_root(c, lo: float, hi: float) -> float:
     """First root of the cubic in [lo, hi] (s units); regula falsi if it finds none."""
     roots = _real_roots(c, lo, hi)
     if roots:
@@ -173,7 +166,7 @@ def bracket_one(
         secant = (g1 - g0) / span
         v0 = v0 if math.isfinite(v0) else secant
         v1 = v1 if math.isfinite(v1) else secant
-    c = hermite(g0, v0, g1, v1, span)
+    c = hermite_coefficients(g0, v0, g1, v1, span)
     if touching:
         if g1 >= 0:
             return None
@@ -243,7 +236,7 @@ def find_dip(
     cubic's minimum is clearly positive."""
     for _ in range(settings.DIP_LEVELS):
         span = t1 - t0
-        c = hermite(g0, v0, g1, v1, span)
+        c = hermite_coefficients(g0, v0, g1, v1, span)
         s = _extremum(c, minimum=True)
         s = 0.5 if s is None else s
         low = _value(c, s)
@@ -339,7 +332,8 @@ class EventSearch:
         contacts = frame.contacts.take(watched)
         g1, v1 = self.evaluator.gap_and_rate(contacts, *trial_end)
         g0, v0 = frame.rows.gap[watched], frame.rows.gap_velocity[watched]
-        touching = np.isin(frame.modes[watched], (SEPARATING, LIFTING))
+        modes = frame.modes[watched]
+        touching = (modes == SEPARATING) | (modes == LIFTING)
         island = self._islands(contacts, island_of_body)
         gaps: dict[int, Callable] = {}
 
@@ -392,10 +386,9 @@ class EventSearch:
         # counts too: two corners that slide past each other are nearer within the step than at
         # either end, and a corner's gap (a distance) cannot reach 0 where it crosses an edge
         closing = (g1 < g0) | (v0 < 0) | sampled
-        for k in np.flatnonzero(closing):
-            i, j = int(contacts.body1[k]), int(contacts.body2[k])
-            if self.switches[i] or self.switches[j]:
-                unconfirmed.setdefault(int(island[k]), set()).add(_pair(contacts, k))
+        switching = self.switches[contacts.body1] | self.switches[contacts.body2]
+        for k in np.flatnonzero(closing & switching).tolist():
+            unconfirmed.setdefault(int(island[k]), set()).add(_pair(contacts, k))
         keys = set(self.collider.keys(contacts).tolist()) if unconfirmed else set()
         known = set(frame.keys.tolist()) if unconfirmed else set()
         counts = {_pair(contacts, k): int(sampled_counts[k]) for k in np.flatnonzero(sampled)}
@@ -444,6 +437,9 @@ class EventSearch:
     def _gap_function(self, contacts, k: int, traj) -> Callable[[float], tuple[float, float]]:
         """t -> (d, d') of watched contact k along the island's trajectory; an oval's contact
         point moves over the oval, so its geometry is found again each time."""
+        if not self.collider.finder.has_ovals:
+            watched = self.evaluator.watch(contacts, k)
+            return lambda t: watched(*traj.at(t))
         one = contacts.take([k])
         refresh = self.collider.refresh_ovals
 

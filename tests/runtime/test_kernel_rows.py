@@ -53,6 +53,32 @@ def test_one_contact_alone_gives_the_bits_it_gets_in_a_batch(scene_name):
 
 
 @pytest.mark.parametrize("scene_name", ["pile", "rounded_stack", "rounded_box_into_bowl"])
+def test_one_contact_watched_over_states_gives_the_bits_of_the_batch(scene_name):
+    """The event search's watcher of one contact (RowEvaluator.watch), asked at three states in
+    turn (so nothing of one state is left for the next): d and d' with the bits of the whole
+    set's evaluation at each state."""
+    scene = _scene(scene_name)
+    rng = np.random.default_rng(5)
+    poses = scene.poses()
+    contacts = scene.contacts(poses, tolerance=TOLERANCE[scene_name])
+    fixed = np.asarray(scene.fixed)
+    evaluator = RowEvaluator(scene.contact_cases(), fixed)
+    moving = ~fixed[:, None]
+    states = [
+        (poses + moving * rng.normal(scale=1e-3, size=poses.shape), rng.normal(size=poses.shape))
+        for _ in range(3)
+    ]
+    batches = [evaluator.gap_and_rate(contacts, q, v) for q, v in states]
+    for k in range(len(contacts)):
+        watched = evaluator.watch(contacts, k)
+        for (q, v), (gap, rate) in zip(states, batches, strict=True):
+            d, d_rate = watched(q, v)
+            assert isinstance(d, float) and isinstance(d_rate, float)
+            assert np.float64(d).tobytes() == gap[k].tobytes(), contacts.describe(k)
+            assert np.float64(d_rate).tobytes() == rate[k].tobytes(), contacts.describe(k)
+
+
+@pytest.mark.parametrize("scene_name", ["pile", "rounded_stack", "rounded_box_into_bowl"])
 def test_rows_are_the_numpy_kernels_numbers(scene_name):
     """The same contacts through the public NumPy kernels (generated/<case>.py) with keyword
     arguments built from the contract's geometry columns: equal to 4 eps relative."""

@@ -62,6 +62,19 @@ def test_the_least_norm_forces_of_a_packed_pile(pile) -> None:
     assert np.all(violation <= settings.LCP_SHARP * scale + settings.LCP_FLOOR * unit)
 
 
+def test_the_cached_ordering_gives_the_forces_of_a_fresh_one(pile) -> None:
+    """The fill-reducing order of K is cached by K's pattern: a second solve (a cache hit) and
+    a solve with the cache emptied give the same forces to the bit."""
+    A, b, J, inverse, want, loaded = pile
+    B, columns, A_csr = _problem(J, inverse, b)
+    lcp_loaded._fill_reducing_order.cache_clear()
+    fresh = lcp_loaded.solve_loaded(B, columns, A_csr, b, loaded)
+    again = lcp_loaded.solve_loaded(B, columns, A_csr, b, loaded)
+    assert lcp_loaded._fill_reducing_order.cache_info().hits == 1
+    assert fresh is not None and again is not None
+    assert fresh[0].tobytes() == again[0].tobytes() and np.array_equal(fresh[1], again[1])
+
+
 def test_a_loaded_set_that_is_not_the_solutions_is_refused(pile) -> None:
     """A force-carrying contact left out of the set (the forces of the rest are then not the
     least-norm ones), the floor's contacts left out (the rest cannot hold the pile up: some

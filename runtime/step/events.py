@@ -355,14 +355,26 @@ class EventSearch:
         resting = key_set(frame.keys[frame.resting]) if found else None  # for _touches
         best: dict[int, float] = {}
         unconfirmed: dict[int, set] = {}
+        at_best: dict[int, tuple[float, np.ndarray]] = {}
+
+        def open_at_best(k: int, g: int) -> bool:
+            """Whether contact k is open at its island's earliest impact so far: every watched
+            contact's d there in one evaluation (a landing pile's event search asked ~30 of
+            them, one by one, at the same instant)."""
+            t = best[g]
+            if g not in at_best or at_best[g][0] != t:
+                q = trajectory(g).at(t)[0]
+                at_best[g] = t, self.evaluator.gaps(self.collider.refresh_ovals(contacts, q), q)
+            return at_best[g][1][k] > 0
+
         for bracket in found:
             k, g = bracket.index, int(island[bracket.index])
-            gap = gap_of(k)
             hi = bracket.hi
             if g in best:
-                if bracket.lo >= best[g] or gap(best[g])[0] > 0:
+                if bracket.lo >= best[g] or open_at_best(k, g):
                     continue
                 hi = min(hi, best[g])
+            gap = gap_of(k)
             if bracket.kind == RETURN and gap(bracket.lo)[0] <= 0:
                 t, d = bracket.lo, 0.0  # it never really left: touching and approaching at lo
             else:

@@ -45,8 +45,9 @@ docs: setup tex
 demo: setup
 	$(VENV)/bin/simulate $(DEMO) --duration 2 --out out/demo --force
 
+# the stale check of generated/ and docs/ is a test (tests/derive/test_regenerate.py), run beside
+# the others: as a step of its own before them it kept one core busy for ~40 s
 test: setup tex
-	$(VENV)/bin/regenerate-equations --check
 	$(VENV)/bin/pytest -n $(TEST_WORKERS) --dist loadfile
 	$(MAKE) --no-print-directory pdf-check
 

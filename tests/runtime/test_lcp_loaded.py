@@ -73,6 +73,7 @@ def test_the_cached_ordering_gives_the_forces_of_a_fresh_one(pile) -> None:
     assert lcp_loaded._fill_reducing_order.cache_info().hits == 1
     assert fresh is not None and again is not None
     assert fresh[0].tobytes() == again[0].tobytes() and np.array_equal(fresh[1], again[1])
+    np.testing.assert_allclose(again[0], want, rtol=0, atol=1e-9 * want.max())  # the oracle's
 
 
 def test_a_loaded_set_that_is_not_the_solutions_is_refused(pile) -> None:

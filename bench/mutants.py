@@ -129,8 +129,9 @@ MUTANTS: list[Mutant] = [
     Mutant("assembly:reaction-sign", ASSEMBLY, "acc[j, c] += inv_mass[j, c] * jac[k, 3 + c] * f", "acc[j, c] -= inv_mass[j, c] * jac[k, 3 + c] * f", IMPACTS + " tests/runtime/test_physics.py", "body 2's reaction (force and impulse) with the wrong sign"),
     # runtime/solve/lcp_loaded.py: a large island's forces from its loaded set
     Mutant("loaded:multiplier-unchecked", LOADED, "if clamped[i] and not loaded[i] and g[i] > _TOL * largest:", "if False:", LOADED_TESTS, "a loaded set missing a contact that should carry force accepted: a solution, not the least-norm one"),
-    Mutant("loaded:force-sign-unchecked", LOADED, "if loaded[i] and not s > 0.0:", "if False:", LOADED_TESTS, "a loaded contact whose body-space force comes out negative accepted: a pulling force"),
-    Mutant("loaded:sharp-check-dropped", LOADED, "if not env.valid(a_ptr, a_idx, s_data, bs, np.zeros(m, np.bool_), fs, _SHARP, a, tol_a):", "if False:", LOADED_TESTS, "the body-space forces accepted without checking the LCP conditions"),
+    Mutant("loaded:force-sign-unchecked", LOADED, "if rows[i] and not s > 0.0:", "if False:", LOADED_TESTS, "a loaded contact whose body-space force comes out negative accepted: a pulling force"),
+    Mutant("loaded:lcp-check-dropped", LOADED, "if not env.valid(a_ptr, a_idx, s_data, bs, np.zeros(m, np.bool_), fs, _TOL, a, tol_a):", "if False:", LOADED_TESTS, "the body-space forces accepted without checking the LCP conditions"),
+    Mutant("loaded:null-space-kept", LOADED, "            _remove_component(null, a, step)", "            pass", LOADED_TESTS, "K^+ without projecting off K's null space: a loaded set that leaves a body free solved as if it fixed it"),
     # runtime/solve/impulses.py
     Mutant("impulses:restitution-factor", IMPULSES, "(1.0 + restitution[wave]) * rate[wave]", "restitution[wave] * rate[wave]", IMPACTS, "Newton's law with e instead of (1 + e)"),
     Mutant("impulses:wave-not-propagated", IMPULSES, "rate += A[:, wave] @ p", "rate[wave] += A[wave][:, wave] @ p", IMPACTS, "a wave's impulses not passed to the touching contacts (Newton's cradle)"),

@@ -134,6 +134,17 @@ COAST_RECORD_BYTES = 4_000_000  # and of at most about this much of records (pos
 COAST_PATIENCE = 64  # quiet steps: after an attempt that did no step, the next 1, 2, 4, ... up to
 # this many quiet steps go one by one (a pile whose contacts change at every step would pay its
 # frame twice at each)
+LOADED_NULLITY = 12  # body-space directions: a loaded set that leaves more of an island's
+# moving directions free (a landing pile, bodies on one contact each) is not solved in body space
+# (runtime.solve.lcp_loaded): its rows are then independent, and the contact-space Cholesky of
+# the warm start is the cheaper solve; projecting off a null space of q vectors costs q solves
+LOADED_DEPENDENT = 1e-9  # relative to K_jj: a body-space column whose pivot is below this
+# depends on the columns before it (a direction the loaded contacts leave free)
+LOADED_TRIES = 2  # solves: a loaded set whose body-space forces are <= 0 on some rows is solved
+# again without them, at most this often in all (each try is one sparse factorization)
+LOADED_ISLAND = 24  # contacts: islands from this size whose guessed rows are dependent try
+# their loaded set before the dense solver, and keep it as their guess
+# (runtime.solve.assembly.solve_small_islands); smaller ones leave it to the dense solver
 DENSE_ISLAND = 128  # contacts: islands up to this size are assembled and solved dense in one
 # compiled call (an A_CC Cholesky of 48 rows costs ~20 us); larger ones go sparse
 

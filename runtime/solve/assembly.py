@@ -17,8 +17,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from runtime import settings
 from runtime.compiled import njit
+from runtime.solve import lcp_loaded
 from runtime.solve.lcp_dense import OK, solve_dense
+from runtime.solve.lcp_envelope import sort_row
+
+_LOADED = settings.LOADED_ISLAND
+MISSED, SOLVED, DEPENDENT = 0, 1, 2  # solve_with_guess
 
 
 @njit
@@ -77,18 +83,6 @@ def island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A):
                     if a != b or side_a != side_b:
                         A[b, a] += s
         first = last
-
-
-@njit
-def sort_row(indices, data, start, stop):
-    """Entries start..stop-1 of a CSR row being built, sorted by column in place (insertion
-    sort: a row has a handful of entries)."""
-    for p in range(start + 1, stop):
-        col, val, q = indices[p], data[p], p
-        while q > start and indices[q - 1] > col:
-            indices[q], data[q] = indices[q - 1], data[q - 1]
-            q -= 1
-        indices[q], data[q] = col, val
 
 
 @njit
@@ -229,11 +223,13 @@ def _cholesky(A, idx, L):
 @njit
 def solve_with_guess(A, b, K, guess, tol, f):
     """Forces f[:K] >= 0 with a = A f + b = 0 on the guessed clamped set and >= 0 elsewhere, each
-    to tol relative to the row's scale |b_k| + sum_j |A_kj| f_j; False if the guess does not
-    give such a solution (then the pivoting solver must find the set)."""
+    to tol relative to the row's scale |b_k| + sum_j |A_kj| f_j. Returns SOLVED, or why the guess
+    does not give such a solution (then the pivoting solver must find the set): DEPENDENT (the
+    guessed rows are linearly dependent: a packed or landing pile, whose least-norm forces the
+    loaded set may give) or MISSED."""
     if K == 1:  # one contact (most islands of a scattered scene): no index array to allocate
         f[0], solved = _solve_one(A[0, 0], b[0], guess[0], tol)
-        return solved
+        return SOLVED if solved else MISSED
     count = 0
     for k in range(K):
         if guess[k]:
@@ -248,14 +244,14 @@ def solve_with_guess(A, b, K, guess, tol, f):
     if count == 1:  # one clamped row: f = -b/A exactly (one rounding, as the closed form)
         k = idx[0]
         if not A[k, k] > 0.0:
-            return False
+            return MISSED
         f[k] = -b[k] / A[k, k]
         if f[k] < 0.0:
-            return False
+            return MISSED
     elif count:
         L = np.zeros((count, count))
         if not _cholesky(A, idx, L):
-            return False
+            return DEPENDENT
         y = np.empty(count)
         for r in range(count):
             s = -b[idx[r]]
@@ -269,7 +265,7 @@ def solve_with_guess(A, b, K, guess, tol, f):
             y[r] = s / L[r, r]
         for r in range(count):
             if y[r] < 0.0:
-                return False
+                return MISSED
             f[idx[r]] = y[r]
     for k in range(K):
         a = b[k]
@@ -279,10 +275,10 @@ def solve_with_guess(A, b, K, guess, tol, f):
             scale += abs(A[k, j]) * f[j]
         if guess[k]:
             if abs(a) > tol * scale:
-                return False
+                return MISSED
         elif a < -tol * scale:
-            return False
-    return True
+            return MISSED
+    return SOLVED
 
 
 @njit
@@ -342,15 +338,49 @@ def solve_small_islands(
             forces[start], ok[g] = _solve_one(diagonal, rates[start], guess[start], tol)
             if ok[g]:
                 continue
-        island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A)
         b, f = rates[start:stop], forces[start:stop]
-        if K > 1 and solve_with_guess(A, b, K, guess[start:stop], tol, f):  # (one row: tried)
+        island_matrix(jac, body1, body2, inv_mass, fixed, start, stop, A)
+        tried = solve_with_guess(A, b, K, guess[start:stop], tol, f) if K > 1 else MISSED
+        if tried == SOLVED:  # (one row: tried above)
             ok[g] = True
+        elif (tried == DEPENDENT and K >= _LOADED
+              and _from_loaded_set(jac, body1, body2, inv_mass, fixed, start, stop, b,
+                                   guess[start:stop], f)):  # fmt: skip
+            ok[g] = True  # a packed or landing pile: the least-norm forces, sparse
         else:  # the clamped set changed: the dense solver finds the new one
             ok[g] = dense_lcp(
                 np.ascontiguousarray(A[:K, :K]), b.copy(), np.zeros(K, np.bool_),
                 guess[start:stop], f,
             )  # fmt: skip
+            if ok[g] and K >= _LOADED:  # the loaded set: the next solve's first try
+                _loaded_guess(f, guess[start:stop])
+
+
+@njit
+def _from_loaded_set(jac, body1, body2, inv_mass, fixed, start, stop, b, guess, f):
+    """Whether the island's forces came from its guess taken as the loaded set
+    (runtime.solve.lcp_loaded: a packed or landing pile's least-norm forces in body space, one
+    sparse factor instead of the dense solver's least-norm stage); ``guess`` then gets the new
+    loaded set (:func:`_loaded_guess`)."""
+    data, indices, indptr, columns = island_scaled_jacobian(
+        jac, body1, body2, inv_mass, fixed, start, stop
+    )
+    A = island_csr(jac, body1, body2, inv_mass, fixed, start, stop)
+    clamped = np.empty(b.size, np.bool_)
+    if not lcp_loaded.solve_island((data, indices, indptr), columns, A, b, guess, f, clamped):
+        return False
+    _loaded_guess(f, guess)
+    return True
+
+
+@njit
+def _loaded_guess(f, guess):
+    """guess = the rows with a force. Why: the next solve of a large island tries its guess as
+    the loaded set (:func:`_from_loaded_set`), and the clamped set also holds the touching rows
+    without force, which that try must first find and drop (a packed pile has dozens). For the
+    dense solver's warm start it is as good: a held row without force is a free row with a = 0."""
+    for k in range(f.size):
+        guess[k] = f[k] > 0.0
 
 
 @njit

@@ -9,10 +9,13 @@ solve (the set of contacts that carry a force almost never changes from one inte
 or step to the next, so that guess is usually the answer: one Cholesky factorization); an
 island whose guess fails, or that is large, goes to the pivoting solver, and its clamped set is
 remembered for the next solve (runtime.solve.lcp: the compiled dense solver, warm-started,
-for small islands; the sparse path for large ones). A large island is first tried with the
-contacts that carried a force at its last solve (its loaded set, also remembered): its
-least-norm forces then take one sparse factorization in body space (runtime.solve.lcp_loaded)
-instead of the pivoting solver's least-norm stage, 28 ms a solve for a packed 200-disc pile.
+for small islands; the sparse path for large ones). An island of settings.LOADED_ISLAND or more
+contacts whose guess has dependent rows (a packed or landing pile) keeps its loaded set as its
+guess, and solves from it in body space before the dense solver. An island too large for the
+compiled call is first tried with the contacts that carried a force at its last solve (its
+loaded set, also remembered): its least-norm forces then take one sparse factorization in body
+space (runtime.solve.lcp_loaded) instead of the pivoting solver's least-norm stage, 28 ms a
+solve for a packed 200-disc pile.
 """
 
 from __future__ import annotations
@@ -51,7 +54,7 @@ class ForceProblem:
     """Resting contacts grouped by island: ``order`` puts the contacts given to
     :meth:`ContactForces.problem` in island order, island g is ``offsets[g]:offsets[g + 1]``
     of that order; ``guess`` is each contact's clamped state (the warm start, updated by
-    every solve), ``labels`` its island; ``loaded`` whether it carried a force at its last
+    every solve; a large island's loaded set, runtime.solve.assembly), ``labels`` its island; ``loaded`` whether it carried a force at its last
     solve (large islands' second warm start, runtime.solve.lcp_loaded; None: not used)."""
 
     contacts: Contacts

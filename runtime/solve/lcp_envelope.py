@@ -10,7 +10,8 @@ of its diagonal plus the pivot's own rounding: such a row depends on the rows ke
 block of the kept rows. scipy's splu cannot do that: on a singular block it fails or returns
 garbage.
 
-Also here: building S = D A D from the lower triangle of A (mirrored, so S is exactly
+Also here: the reverse Cuthill-McKee order itself, compiled (the engine's compiled stages order
+a large island's body-space matrix at every solve; runtime.solve.lcp_loaded), and building S = D A D from the lower triangle of A (mirrored, so S is exactly
 symmetric) in a given order, and checking a CSR matrix as runtime.solve.lcp_problem.prepare
 does a dense one, without scipy's temporaries.
 """
@@ -206,3 +207,104 @@ def row_of(indptr, indices, data, r, kept, out):
     for p in range(indptr[r], indptr[r + 1]):
         if kept[indices[p]]:
             out[indices[p]] = data[p]
+
+
+@njit
+def sort_row(indices, data, start, stop):
+    """Entries start..stop-1 of a CSR row being built, sorted by column in place (insertion
+    sort: a row has a handful of entries)."""
+    for p in range(start + 1, stop):
+        col, val, q = indices[p], data[p], p
+        while q > start and indices[q - 1] > col:
+            indices[q], data[q] = indices[q - 1], data[q - 1]
+            q -= 1
+        indices[q], data[q] = col, val
+
+
+@njit
+def reverse_cuthill_mckee(indptr, indices):
+    """A fill-reducing order of a symmetric pattern (CSR, the diagonal ignored): each connected
+    part breadth first from a pseudo-peripheral node (George and Liu's search), every node's new
+    neighbours by increasing degree, the whole order reversed. Rows of the matrix in this order
+    keep their entries near the diagonal, so the envelope factor's work is small."""
+    n = indptr.size - 1
+    degree = np.zeros(n, np.int64)
+    for i in range(n):
+        for p in range(indptr[i], indptr[i + 1]):
+            if indices[p] != i:
+                degree[i] += 1
+    order = np.empty(n, np.int64)
+    placed = np.zeros(n, np.bool_)
+    depth = np.full(n, -1, np.int64)  # scratch of the level search
+    queue = np.empty(n, np.int64)
+    count = 0
+    for seed in np.argsort(degree, kind="mergesort"):
+        if placed[seed]:
+            continue
+        start = _peripheral(indptr, indices, degree, seed, depth, queue)
+        placed[start] = True
+        order[count] = start
+        head, count = count, count + 1
+        while head < count:
+            i = order[head]
+            head += 1
+            first = count
+            for p in range(indptr[i], indptr[i + 1]):
+                j = indices[p]
+                if not placed[j]:
+                    placed[j] = True
+                    order[count] = j
+                    count += 1
+            for a in range(first + 1, count):  # new neighbours by degree (insertion, stable)
+                j, b = order[a], a
+                while b > first and degree[order[b - 1]] > degree[j]:
+                    order[b] = order[b - 1]
+                    b -= 1
+                order[b] = j
+    return order[::-1].copy()
+
+
+@njit
+def _levels(indptr, indices, root, depth, queue):
+    """Breadth-first levels from ``root`` in ``depth`` (-1: not reached; reset by the caller
+    through ``queue``); returns the number of nodes reached (queue[:count], by level)."""
+    depth[root] = 0
+    queue[0] = root
+    head, count = 0, 1
+    while head < count:
+        i = queue[head]
+        head += 1
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if depth[j] < 0:
+                depth[j] = depth[i] + 1
+                queue[count] = j
+                count += 1
+    return count
+
+
+@njit
+def _peripheral(indptr, indices, degree, root, depth, queue):
+    """A node of ``root``'s connected part far from the others: from root, move to the
+    lowest-degree node of the deepest level while that makes the levels deeper."""
+    while True:
+        count = _levels(indptr, indices, root, depth, queue)
+        height = depth[queue[count - 1]]
+        best = root
+        for a in range(count - 1, -1, -1):
+            j = queue[a]
+            if depth[j] < height:
+                break
+            if best == root or degree[j] < degree[best]:
+                best = j
+        for a in range(count):
+            depth[queue[a]] = -1
+        if best == root:
+            return root
+        count = _levels(indptr, indices, best, depth, queue)
+        deeper = depth[queue[count - 1]] > height
+        for a in range(count):
+            depth[queue[a]] = -1
+        if not deeper:
+            return best
+        root = best

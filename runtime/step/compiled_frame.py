@@ -16,7 +16,7 @@ Outputs per contact: gap, rate (d' after the impacts), jacobian, bias, modes, im
 (of the resting contacts; 0 elsewhere), free rates b (resting contacts); per body: velocities
 after the impacts and presses, accelerations under the resting forces; the kinetic energy the
 impacts and presses took out; and ``guess``, the clamped state of each contact after its last
-solve (the warm start of the next).
+solve (the warm start of the next; a large island's loaded set, runtime.solve.assembly).
 """
 
 from __future__ import annotations

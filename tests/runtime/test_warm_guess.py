@@ -21,7 +21,7 @@ import pytest
 from lcp_oracle import Contact, brute_force, contact_matrix, row_violation
 
 from runtime import settings
-from runtime.solve.assembly import island_matrix, solve_with_guess
+from runtime.solve.assembly import SOLVED, island_matrix, solve_with_guess
 
 TOL = settings.LCP_TOL
 
@@ -73,7 +73,7 @@ def test_island_matrix_is_j_m_inverse_j_transposed(seed):
 
 def _guessed(A: np.ndarray, b: np.ndarray, guess: np.ndarray) -> tuple[bool, np.ndarray]:
     f = np.full(len(b), np.nan)
-    return bool(solve_with_guess(A, b.copy(), len(b), guess.copy(), TOL, f)), f
+    return solve_with_guess(A, b.copy(), len(b), guess.copy(), TOL, f) == SOLVED, f
 
 
 @pytest.mark.parametrize("size", [1, 2, 3])

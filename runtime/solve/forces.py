@@ -54,8 +54,9 @@ class ForceProblem:
     """Resting contacts grouped by island: ``order`` puts the contacts given to
     :meth:`ContactForces.problem` in island order, island g is ``offsets[g]:offsets[g + 1]``
     of that order; ``guess`` is each contact's clamped state (the warm start, updated by
-    every solve; a large island's loaded set, runtime.solve.assembly), ``labels`` its island; ``loaded`` whether it carried a force at its last
-    solve (large islands' second warm start, runtime.solve.lcp_loaded; None: not used)."""
+    every solve; a large island's loaded set, runtime.solve.assembly), ``labels`` its island;
+    ``loaded`` whether it carried a force at its last solve (the second warm start of islands
+    too large for the compiled call, runtime.solve.lcp_loaded; None: not used)."""
 
     contacts: Contacts
     order: np.ndarray

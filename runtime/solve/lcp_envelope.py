@@ -11,9 +11,9 @@ block of the kept rows. scipy's splu cannot do that: on a singular block it fail
 garbage.
 
 Also here: the reverse Cuthill-McKee order itself, compiled (the engine's compiled stages order
-a large island's body-space matrix at every solve; runtime.solve.lcp_loaded), and building S = D A D from the lower triangle of A (mirrored, so S is exactly
-symmetric) in a given order, and checking a CSR matrix as runtime.solve.lcp_problem.prepare
-does a dense one, without scipy's temporaries.
+a large island's body-space matrix at every solve; runtime.solve.lcp_loaded); building S = D A D
+from the lower triangle of A (mirrored, so S is exactly symmetric) in a given order; and checking
+a CSR matrix as runtime.solve.lcp_problem.prepare does a dense one, without scipy's temporaries.
 """
 
 from __future__ import annotations

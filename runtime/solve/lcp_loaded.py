@@ -26,10 +26,9 @@ The result is accepted only if every LCP condition holds to settings.LCP_TOL -- 
 solver accepts its least-norm forces: a loaded set with near-redundant rows holds b in its range
 only to ~1e-10 (a landing 50-disc pile) -- and the multipliers have their signs. Those checks
 alone certify it: any z with f_P = B_P z that passes them proves f the least-norm solution,
-however z was found. So the null-space bound
-(settings.LOADED_NULLITY) is an early exit, not a safeguard. Otherwise the result is None (False
-from the compiled entry) and the pivoting solver takes the island (runtime.solve.lcp,
-runtime.solve.lcp_dense).
+however z was found. So the null-space bound (settings.LOADED_NULLITY) is an early exit, not a
+safeguard. Otherwise the result is None (False from the compiled entry) and the pivoting solver
+takes the island (runtime.solve.lcp, runtime.solve.lcp_dense).
 
 The set tried first is the island's guess: the engine keeps a large island's loaded set as its
 guess (runtime.solve.assembly), and a guess that also holds rows without force has them dropped

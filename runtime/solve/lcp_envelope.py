@@ -287,9 +287,9 @@ def _levels(indptr, indices, root, depth, queue):
 def _peripheral(indptr, indices, degree, root, depth, queue):
     """A node of ``root``'s connected part far from the others: from root, move to the
     lowest-degree node of the deepest level while that makes the levels deeper."""
+    count = _levels(indptr, indices, root, depth, queue)
+    height = depth[queue[count - 1]]
     while True:
-        count = _levels(indptr, indices, root, depth, queue)
-        height = depth[queue[count - 1]]
         best = root
         for a in range(count - 1, -1, -1):
             j = queue[a]
@@ -301,10 +301,9 @@ def _peripheral(indptr, indices, degree, root, depth, queue):
             depth[queue[a]] = -1
         if best == root:
             return root
-        count = _levels(indptr, indices, best, depth, queue)
-        deeper = depth[queue[count - 1]] > height
-        for a in range(count):
-            depth[queue[a]] = -1
-        if not deeper:
+        count = _levels(indptr, indices, best, depth, queue)  # kept if best becomes the root
+        if not depth[queue[count - 1]] > height:
+            for a in range(count):
+                depth[queue[a]] = -1
             return best
-        root = best
+        root, height = best, depth[queue[count - 1]]

@@ -245,12 +245,15 @@ def _least_norm_solve(K, factor, null, rhs):
     k_data, k_idx, k_ptr = K
     n = rhs.size
     out, residual = np.zeros(n), rhs.copy()
-    for _ in range(3 if null.shape[0] else 1):
+    rounds = 3 if null.shape[0] else 1
+    for r in range(rounds):
         step = _basic_solve(factor, residual)
         for a in range(null.shape[0]):
             _remove_component(null, a, step)
         for t in range(n):
             out[t] += step[t]
+        if r == rounds - 1:
+            break  # (no residual for a round that does not follow)
         for i in range(n):
             s = rhs[i]
             for p in range(k_ptr[i], k_ptr[i + 1]):

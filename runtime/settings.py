@@ -156,6 +156,9 @@ LEMKE_PIVOT = 1e-12  # relative to the largest |M_ij| (at least 1): a tableau en
 LEMKE_TIE = 1e-12  # relative to the minimum ratio: rows within this of it tie (and the
 # lexicographic rule decides); two equal tangential rows (a box's corners) tie exactly
 LEMKE_PIVOTS = 50  # times (n + 1): pivots of one Lemke solve before giving up (it needs about n)
+LEMKE_BASIS_PIVOT = 1e-12  # relative to the largest |entry| left in its column: an LU pivot
+# of a remembered friction basis (runtime.solve.friction_lcp) below this is singular, and Lemke's
+# method solves instead
 LEMKE_RETRIES = 3  # solves again with a perturbed q after a ray (runtime.solve.lemke)
 LEMKE_PERTURB = 1e-13  # relative to max |q| (at least 1): the perturbation of such a retry; the
 # solution is then exact for a q changed by this much, far below LCP_TOL

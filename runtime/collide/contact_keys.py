@@ -129,9 +129,9 @@ _FOUND = np.ones(0, np.bool_)  # _looked_up's values for membership: none (True 
 @njit
 def _looked_up(keys, table, values):
     """Per key: values[where it is in the sorted ``table``] (True if ``values`` is empty),
-    False where it is not there -- member and Guesses.get in one compiled loop."""
+    0 (False) where it is not there -- member and Guesses.get in one compiled loop."""
     at = _find_sorted(keys, table)
-    out = np.zeros(keys.size, np.bool_)
+    out = np.zeros(keys.size, values.dtype)
     for k in range(keys.size):
         if at[k] >= 0:
             out[k] = values[at[k]] if values.size else True
@@ -196,7 +196,7 @@ def _merged(table, clamped, keys, values):
     order = np.argsort(keys)
     out_keys, out_values = (
         np.empty(table.size + new, np.int64),
-        np.empty(table.size + new, np.bool_),
+        np.empty(table.size + new, clamped.dtype),
     )
     i = o = 0
     for k in order:
@@ -215,40 +215,42 @@ class Guesses:
     """Contact key -> whether its force was clamped (positive) at its last solve: the warm-start
     guesses of the force solves (runtime.solve.forces), as sorted parallel arrays. ``loaded``,
     when given, is a second such map: whether the contact carried a force (a large island's
-    loaded set, runtime.solve.lcp_loaded); copies carry it along."""
+    loaded set, runtime.solve.lcp_loaded); copies carry it along. With another ``dtype`` the
+    values are of that type (0 for a contact never solved): the friction LCP's basis flags."""
 
     def __init__(
         self,
         keys: np.ndarray | None = None,
         clamped: np.ndarray | None = None,
         loaded: Guesses | None = None,
+        dtype=bool,
     ):
         keys = np.zeros(0, np.int64) if keys is None else keys
-        clamped = np.zeros(len(keys), bool) if clamped is None else np.asarray(clamped, bool)
+        clamped = np.zeros(len(keys), dtype) if clamped is None else np.asarray(clamped, dtype)
         order = np.argsort(keys, kind="stable")
         self.keys, self.clamped = keys[order], clamped[order]
-        self.loaded = loaded
+        self.loaded, self.dtype = loaded, dtype
 
     def __len__(self) -> int:
         return len(self.keys)
 
     def copy(self) -> Guesses:
         loaded = None if self.loaded is None else self.loaded.copy()
-        return Guesses(self.keys.copy(), self.clamped.copy(), loaded)
+        return Guesses(self.keys.copy(), self.clamped.copy(), loaded, self.dtype)
 
     def get(self, keys: np.ndarray) -> np.ndarray:
-        """(m,) the guess of each of ``keys``: False for a contact never solved."""
+        """(m,) the guess of each of ``keys``: False (0) for a contact never solved."""
         if keys.dtype == np.int64 and self.keys.dtype == np.int64 and len(self.keys):
             return _looked_up(keys, self.keys, self.clamped)
         at = find(keys, self.keys)
         known = at >= 0
-        out = np.zeros(len(keys), bool)
+        out = np.zeros(len(keys), self.dtype)
         out[known] = self.clamped[at[known]]
         return out
 
     def update(self, keys: np.ndarray, clamped: np.ndarray) -> None:
         """Remember ``clamped`` for ``keys`` (distinct), replacing what was known of them."""
-        clamped = np.asarray(clamped, bool)
+        clamped = np.asarray(clamped, self.dtype)
         if keys.dtype == np.int64 and self.keys.dtype == np.int64:
             self.keys, self.clamped = _merged(self.keys, self.clamped, keys, clamped)
             return

@@ -30,8 +30,9 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from runtime import settings
+from runtime.collide.contact_keys import Guesses
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution
-from runtime.solve.friction_lcp import FrictionInconsistent, painleve, solve_island
+from runtime.solve.friction_lcp import FrictionInconsistent, painleve, solve_held, solve_island
 from runtime.solve.friction_rows import FrictionRows
 from runtime.solve.lemke import SOLVED
 
@@ -39,14 +40,26 @@ from runtime.solve.lemke import SOLVED
 @dataclass
 class FrictionProblem(ForceProblem):
     """A ForceProblem with each contact's friction mode ``slide`` (0 stick or frictionless,
-    +-1 sliding with v_t of that sign); None until the first solve decides it."""
+    +-1 sliding with v_t of that sign; None until the first solve decides it) and ``basis``,
+    its basis flags in the friction LCP's last solve (runtime.solve.friction_lcp: the warm
+    start of the next)."""
 
     slide: np.ndarray | None = None
+    basis: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.basis is None:
+            self.basis = np.zeros(len(self.keys), np.int8)
 
     def subset(self, keep: np.ndarray) -> FrictionProblem:
         base = ForceProblem.subset(self, keep)
-        slide = None if self.slide is None else self.slide[np.flatnonzero(keep)]
-        return FrictionProblem(**{f.name: getattr(base, f.name) for f in fields(base)}, slide=slide)
+        index = np.flatnonzero(keep)
+        slide = None if self.slide is None else self.slide[index]
+        return FrictionProblem(
+            **{f.name: getattr(base, f.name) for f in fields(base)},
+            slide=slide,
+            basis=self.basis[index],
+        )
 
 
 @dataclass(frozen=True)
@@ -68,9 +81,18 @@ class FrictionalForces(ContactForces):
 
     stick_speed = settings.STICK_SPEED
 
+    def __init__(self, scene, stabilisation=None) -> None:
+        super().__init__(scene, stabilisation)
+        self.bases = Guesses(dtype=np.int8)  # contact key -> basis flags at its last solve
+
     def problem(self, contacts, island_of_contact, keys) -> FrictionProblem:
         base = super().problem(contacts, island_of_contact, keys)
-        return FrictionProblem(**{f.name: getattr(base, f.name) for f in fields(base)})
+        basis = self.bases.get(base.keys)
+        return FrictionProblem(**{f.name: getattr(base, f.name) for f in fields(base)}, basis=basis)
+
+    def remember(self, problem: FrictionProblem) -> None:
+        super().remember(problem)
+        self.bases.update(problem.keys, problem.basis)
 
     def solve(self, problem: FrictionProblem, rows: FrictionRows) -> FrictionSolution:
         """Forces and accelerations with each contact's mode; the modes are decided at the
@@ -129,12 +151,13 @@ class FrictionalForces(ContactForces):
         slide = slide.astype(float)
         for g in np.flatnonzero(with_friction):
             a, b = int(offsets[g]), int(offsets[g + 1])
-            status = solve_island(
+            args = (
                 jac[a:b], tangent_jac[a:b], ends[a:b], bias[a:b], rows.tangent_bias[a:b],
                 rows.mu[a:b], slide[a:b], self.inverse_mass, self.fixed, self.free_acceleration,
                 forces[a:b], tangent[a:b], slack[a:b], a_t[a:b], rates[a:b], acc,
+                problem.basis[a:b],
             )  # fmt: skip
-            if status != SOLVED:
+            if solve_island(*args) != SOLVED and not solve_held(*args):
                 raise painleve(rows.mu[a:b], slide[a:b])
             scale = max(float(np.max(np.abs(rates[a:b]), initial=0.0)), 1.0)
             pressed = forces[a:b] > settings.SLIP_ONSET * float(np.max(forces[a:b]))

@@ -25,15 +25,38 @@ the same matrix here), solved by Lemke's method (runtime.solve.lemke). Its matri
 W the bodies' inverse masses, a0 their free accelerations; J rows from the generated kernels
 (runtime.solve.friction_rows). An LCP with no solution (Lemke's ray) is a Painleve
 configuration: :class:`FrictionInconsistent`.
+
+Warm start: which unknowns are basic (positive, or held by an equation) hardly changes from one
+integrator stage or step to the next, so each contact keeps the basis of its last solve (flags:
+:data:`NORMAL`, :data:`PLUS`, :data:`MINUS`, :data:`SLACK`), and a solve first tries it: one LU
+factorization of M_BB, M_BB z_B = -q_B, accepted if z_B >= 0 and w = M z + q >= 0 off the basis
+(each to settings.LCP_SHARP of its row's scale, as a warm start must). Lemke's method (O(n)
+pivots of O(n^2) each: 4 ms for a 20-disc pile's 208 unknowns) runs only if that fails, and its
+final basis is the next guess. A pile's rows are dependent, but Lemke's final basis never is:
+its M_BB is the basis matrix of the tableau.
+
+When every frictional contact of an island sticks and Lemke's method still ends on a ray (a
+packed pile of 12 discs at rest did, at its first step: its rows are dependent and the problem
+degenerate, and the perturbed retries did not help), the island is tried as held: the normal rows
+and every contact's d'' and a_t 0: a linear program for forces in the cones (|f_t| <= mu f_n),
+which dependent rows do not trouble (:func:`solve_held`). Its forces, checked on M and q, solve
+the friction LCP with lambda = 0. (The least-norm forces of that held system are not enough:
+in the 12-disc pile a third of them left their cones.)
 """
 
 from __future__ import annotations
 
 import numpy as np
+from scipy import optimize
 
+from runtime import settings
 from runtime.compiled import njit
 from runtime.solve.lcp_problem import ContactSolverError
 from runtime.solve.lemke import SOLVED, lemke_perturbed
+
+NORMAL, PLUS, MINUS, SLACK = 1, 2, 4, 8  # a contact's basis flags: f_n, f+, f-, lambda basic
+_TOL = settings.LCP_SHARP
+_SINGULAR = settings.LEMKE_BASIS_PIVOT
 
 
 class FrictionInconsistent(ContactSolverError):
@@ -79,15 +102,85 @@ def _rates(rows, ends, bias, acc, out):
 
 
 @njit
-def solve_island(
-    jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc,
-    normal, tangent, slack, tangent_acc, rates, acc,
+def _lu_solve(B, r):
+    """x with B x = r by Gaussian elimination with partial pivoting (B and r overwritten);
+    None if a pivot is below _SINGULAR of its column's largest entry (B singular)."""
+    p = r.size
+    for c in range(p):
+        best, size = c, 0.0
+        for i in range(c, p):
+            size = max(size, abs(B[i, c]))
+            if abs(B[i, c]) > abs(B[best, c]):
+                best = i
+        if not abs(B[best, c]) > _SINGULAR * size or size == 0.0:
+            return None
+        if best != c:
+            for j in range(p):
+                B[c, j], B[best, j] = B[best, j], B[c, j]
+            r[c], r[best] = r[best], r[c]
+        for i in range(c + 1, p):
+            f = B[i, c] / B[c, c]
+            if f != 0.0:
+                for j in range(c + 1, p):
+                    B[i, j] -= f * B[c, j]
+                r[i] -= f * r[c]
+    for c in range(p - 1, -1, -1):
+        s = r[c]
+        for j in range(c + 1, p):
+            s -= B[c, j] * r[j]
+        r[c] = s / B[c, c]
+    return r
+
+
+@njit
+def from_basis(M, q, basic, z):
+    """Whether the LCP (M, q) is solved with the unknowns ``basic`` basic: z (written) from
+    M_BB z_B = -q_B, accepted if z_B >= 0 and w = M z + q >= 0 elsewhere, each to LCP_SHARP of
+    its row's scale |q_i| + sum_j |M_ij| z_j (z_B entries of rounding size below 0, a basic
+    unknown at 0, are set to 0)."""
+    idx = np.flatnonzero(basic)
+    p = idx.size
+    B = np.empty((p, p))
+    r = np.empty(p)
+    for a in range(p):
+        r[a] = -q[idx[a]]
+        for c in range(p):
+            B[a, c] = M[idx[a], idx[c]]
+    x = _lu_solve(B, r)
+    if x is None:
+        return False
+    largest = 0.0
+    for a in range(p):
+        largest = max(largest, abs(x[a]))
+    z[:] = 0.0
+    for a in range(p):
+        if x[a] < -_TOL * largest:
+            return False
+        z[idx[a]] = max(x[a], 0.0)
+    return _complementary(M, q, z, basic, _TOL)
+
+
+@njit
+def _complementary(M, q, z, held, tol):
+    """Whether w = M z + q is 0 on the rows ``held`` and >= 0 elsewhere, each to tol of its row's
+    scale |q_i| + sum_j |M_ij| z_j (z >= 0 given)."""
+    for i in range(q.size):
+        w, scale = q[i], abs(q[i])
+        for j in range(q.size):
+            if z[j] != 0.0:
+                w += M[i, j] * z[j]
+                scale += abs(M[i, j]) * z[j]
+        if (abs(w) if held[i] else -w) > tol * scale:
+            return False
+    return True
+
+
+@njit
+def island_lcp(
+    jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc, rates
 ):  # fmt: skip
-    """The forces of one island's K contacts (``ends`` (K, 2): body 1 and 2; ``bias`` the normal
-    bias, stabilised if so; ``slide`` each contact's mode, 0 for a sticking or a frictionless
-    one), written to ``normal``, ``tangent``, ``slack``, ``tangent_acc`` (a_t), ``rates`` (the
-    free d'', b_n); ``acc`` (n, 3) gets the forces' accelerations added. Returns Lemke's status.
-    """
+    """(M, q, stick) of one island's friction LCP (the module docstring; ``stick``: the sticking
+    contacts, in the order of their unknowns); ``rates`` gets b_n, the free d''."""
     k = mu.size
     cols = jac.copy()  # the normal columns, with sliding contacts' friction folded in
     for i in range(k):
@@ -122,10 +215,54 @@ def solve_island(
         M[k + i, k + 2 * s + i] = M[k + s + i, k + 2 * s + i] = 1.0
         M[k + 2 * s + i, k + i] = M[k + 2 * s + i, k + s + i] = -1.0
         M[k + 2 * s + i, stick[i]] = mu[stick[i]]
-    z = np.zeros(n)
-    status = lemke_perturbed(M, q, z)
-    if status != SOLVED:
-        return status
+    return M, q, stick
+
+
+@njit
+def solve_island(
+    jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc,
+    normal, tangent, slack, tangent_acc, rates, acc, flags,
+):  # fmt: skip
+    """The forces of one island's K contacts (``ends`` (K, 2): body 1 and 2; ``bias`` the normal
+    bias, stabilised if so; ``slide`` each contact's mode, 0 for a sticking or a frictionless
+    one), written to ``normal``, ``tangent``, ``slack``, ``tangent_acc`` (a_t), ``rates`` (the
+    free d'', b_n); ``acc`` (n, 3) gets the forces' accelerations added. ``flags`` (K, int8):
+    each contact's basis flags, tried first (all 0: none known) and replaced by the new basis.
+    Returns SOLVED, or Lemke's status.
+    """
+    M, q, stick = island_lcp(
+        jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc, rates
+    )
+    k, s = mu.size, stick.size
+    z = np.zeros(q.size)
+    basic = np.zeros(q.size, np.bool_)
+    for i in range(k):
+        basic[i] = (flags[i] & NORMAL) != 0
+    for i in range(s):
+        c = stick[i]
+        basic[k + i], basic[k + s + i] = (flags[c] & PLUS) != 0, (flags[c] & MINUS) != 0
+        basic[k + 2 * s + i] = (flags[c] & SLACK) != 0
+    if not (np.any(basic) and from_basis(M, q, basic, z)):
+        status = lemke_perturbed(M, q, z, basic)
+        if status != SOLVED:
+            return status
+    write_solution(z, basic, stick, jac, tangent_jac, ends, tangent_bias, mu, slide, inv_mass,
+                   normal, tangent, slack, tangent_acc, acc, flags)  # fmt: skip
+    return SOLVED
+
+
+@njit
+def write_solution(z, basic, stick, jac, tangent_jac, ends, tangent_bias, mu, slide, inv_mass,
+                   normal, tangent, slack, tangent_acc, acc, flags):  # fmt: skip
+    """The island's forces, a_t, accelerations and basis flags from the LCP's solution z with
+    the unknowns ``basic`` basic (:func:`solve_island`'s outputs)."""
+    k, s = mu.size, stick.size
+    for i in range(k):
+        flags[i] = NORMAL if basic[i] else 0
+    for i in range(s):
+        c = stick[i]
+        flags[c] += (PLUS if basic[k + i] else 0) + (MINUS if basic[k + s + i] else 0)
+        flags[c] += SLACK if basic[k + 2 * s + i] else 0
     for i in range(k):
         normal[i] = z[i]
         tangent[i] = -slide[i] * mu[i] * z[i]
@@ -136,7 +273,38 @@ def solve_island(
     _add_forces(jac, ends, inv_mass, normal, acc)
     _add_forces(tangent_jac, ends, inv_mass, tangent, acc)
     _rates(tangent_jac, ends, tangent_bias, acc, tangent_acc)
-    return status
+
+
+def solve_held(
+    jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc,
+    normal, tangent, slack, tangent_acc, rates, acc, flags,
+) -> bool:  # fmt: skip
+    """Whether the island (every frictional contact sticking; :func:`solve_island`'s arguments
+    and outputs) is solved with every contact held, d'' = 0 and a_t = 0: forces in the cones
+    (f_n >= 0, |f_t| <= mu f_n) by a linear program (scipy's HiGHS), checked as a solution of
+    the friction LCP to settings.LCP_TOL. The fallback of the module docstring, for when
+    Lemke's method ends on a ray."""
+    if np.any(slide != 0):
+        return False
+    M, q, stick = island_lcp(
+        jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc, rates
+    )
+    k, s = mu.size, stick.size
+    held = np.r_[np.arange(k), k + np.arange(s)]  # d'' = 0, and a_t = 0 with lambda = 0
+    cone = np.zeros((s, k + 3 * s))  # f+ + f- - mu f_n <= 0
+    cone[np.arange(s), stick] = -mu[stick]
+    cone[np.arange(s), k + np.arange(s)] = cone[np.arange(s), k + s + np.arange(s)] = 1.0
+    cost = np.r_[np.zeros(k), np.ones(2 * s), np.zeros(s)]  # no needless f+ and f- together
+    bounds = [(0.0, None)] * (k + 2 * s) + [(0.0, 0.0)] * s
+    found = optimize.linprog(cost, cone, np.zeros(s), M[held], -q[held], bounds, method="highs")
+    if found.status != 0:
+        return False
+    z = np.maximum(found.x, 0.0)
+    if not _complementary(M, q, z, z > 0.0, settings.LCP_TOL):
+        return False
+    write_solution(z, z > 0.0, stick, jac, tangent_jac, ends, tangent_bias, mu, slide,
+                   inv_mass, normal, tangent, slack, tangent_acc, acc, flags)  # fmt: skip
+    return True
 
 
 def painleve(mu: np.ndarray, slide: np.ndarray) -> FrictionInconsistent:

@@ -36,12 +36,15 @@ _RETRIES, _PERTURB = settings.LEMKE_RETRIES, settings.LEMKE_PERTURB
 
 
 @njit
-def lemke(M, q, z):
-    """z (n,) written with the solution; returns SOLVED, RAY (no solution found) or ITERATIONS
+def lemke(M, q, z, basic):
+    """z (n,) written with the solution and ``basic`` (n,) with whether each z_i ended in the
+    basis (the complementary basis, whose M_BB is not singular: the next solve's first try,
+    runtime.solve.friction_lcp); returns SOLVED, RAY (no solution found) or ITERATIONS
     (settings.LEMKE_PIVOTS x n pivots without an end)."""
     n = q.size
     for i in range(n):
         z[i] = 0.0
+        basic[i] = False
     if n == 0:
         return SOLVED
     worst = 0
@@ -79,17 +82,18 @@ def lemke(M, q, z):
     for i in range(n):
         if n <= basis[i] < 2 * n:
             z[basis[i] - n] = max(rhs[i], 0.0)
+            basic[basis[i] - n] = True
     return SOLVED
 
 
 @njit
-def lemke_perturbed(M, q, z):
+def lemke_perturbed(M, q, z, basic):
     """:func:`lemke`, and on a ray up to settings.LEMKE_RETRIES times again with q moved by
     settings.LEMKE_PERTURB x max |q| in a fixed pattern: degenerate problems (rounding-level
     q entries beside exact zeros: a disc in a pile with d' = -5e-12 sliding at 0.14 m/s) can end
     on a ray that an exact lexicographic rule would not reach, and a perturbation of q is the
     lexicographic rule's own idea made numeric. A problem with no solution stays a ray."""
-    status = lemke(M, q, z)
+    status = lemke(M, q, z, basic)
     if status != RAY:
         return status
     size = 1.0
@@ -99,7 +103,7 @@ def lemke_perturbed(M, q, z):
         moved = q.copy()
         for i in range(q.size):
             moved[i] += _PERTURB * size * attempt * (1.0 + ((i * 0.6180339887498949) % 1.0))
-        status = lemke(M, moved, z)
+        status = lemke(M, moved, z, basic)
         if status != RAY:
             return status
     return status
@@ -161,4 +165,4 @@ def solve(M: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, int]:
     M = np.ascontiguousarray(M, dtype=float)
     q = np.ascontiguousarray(q, dtype=float)
     z = np.zeros(q.size)
-    return z, int(lemke_perturbed(M, q, z))
+    return z, int(lemke_perturbed(M, q, z, np.zeros(q.size, np.bool_)))

@@ -110,7 +110,7 @@ def test_a_degenerate_impact_problem_ends_on_a_ray_without_and_is_solved_with_pe
     max(1, |q|), up to 2x in its pattern and 3 retries)."""
     data = np.load(Path(__file__).parent / "data" / "lemke_degenerate_impact.npz")
     M, q = data["M"], data["q"]
-    assert lemke.lemke(M.copy(), q.copy(), np.zeros(q.size)) == lemke.RAY
+    assert lemke.lemke(M.copy(), q.copy(), np.zeros(q.size), np.zeros(q.size, bool)) == lemke.RAY
     _brute_force(M, q)  # a solution exists
     z, status = lemke.solve(M, q)
     w = M @ z + q

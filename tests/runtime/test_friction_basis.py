@@ -1,0 +1,137 @@
+"""The friction LCP's warm start (runtime.solve.friction_lcp.from_basis) against references.
+
+* Lemke's final basis (runtime.solve.lemke) solves its own problem again by one LU solve: the
+  same z; and, for q moved a little, the unique solution of a P-matrix problem, found by trying
+  every complementary basis (written apart, NumPy's solver);
+* a basis that is not the solution's is refused (z_B < 0 or w < 0 off the basis), and so is a
+  singular one -- refused, not a NaN or an exception;
+* in a sticking pile of discs the remembered bases give the forces that Lemke's method gives from
+  a cold start, and the pile keeps Coulomb's law at every step.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+import runtime
+from bench.steps import pile_scene
+from runtime.solve import friction, friction_lcp, lemke
+
+
+def _brute_force(M: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The solution of the LCP (M, q) over all complementary bases (small n only)."""
+    for basis in itertools.product((False, True), repeat=q.size):
+        on = np.array(basis)
+        z = np.zeros(q.size)
+        if on.any():
+            try:
+                z[on] = np.linalg.solve(M[np.ix_(on, on)], -q[on])
+            except np.linalg.LinAlgError:
+                continue
+        w = M @ z + q
+        if np.all(z >= -1e-12) and np.all(w >= -1e-12):
+            return z
+    raise AssertionError("no solution")
+
+
+def _p_matrix_problem(seed: int):
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 8))
+    B, S = rng.normal(size=(n, n)), rng.normal(size=(n, n))
+    return B @ B.T + 0.1 * np.eye(n) + (S - S.T), rng.normal(size=n), rng  # a P-matrix
+
+
+def _lemke(M, q):
+    z, basic = np.zeros(q.size), np.zeros(q.size, bool)
+    assert lemke.lemke_perturbed(M, q, z, basic) == lemke.SOLVED
+    return z, basic
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_lemkes_basis_solves_its_problem_and_a_nearby_one(seed):
+    M, q, rng = _p_matrix_problem(seed)
+    z, basic = _lemke(M, q)
+    again = np.full(q.size, np.nan)
+    assert friction_lcp.from_basis(M, q, basic, again)
+    np.testing.assert_allclose(again, z, rtol=1e-12, atol=1e-12)
+    moved = q + 1e-7 * rng.normal(size=q.size)
+    reference = _brute_force(M, moved)
+    if np.min(np.maximum(reference, M @ reference + moved)) < 1e-6:
+        pytest.skip("the moved problem is nearly degenerate: its basis may change")
+    assert friction_lcp.from_basis(M, moved, basic, again)
+    np.testing.assert_allclose(again, reference, rtol=1e-10, atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_a_basis_not_the_solutions_is_refused(seed):
+    M, q, _ = _p_matrix_problem(seed)
+    _, basic = _lemke(M, q)
+    for i in range(q.size):  # a P-matrix problem has one solution: every other basis is wrong
+        wrong = basic.copy()
+        wrong[i] = not wrong[i]
+        z = np.zeros(q.size)
+        assert not friction_lcp.from_basis(M, q, wrong, z)
+
+
+def test_a_singular_basis_is_refused_without_nans():
+    M = np.array([[1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 2.0]])  # rows 0, 1 equal
+    q = np.array([-1.0, -1.0, -2.0])
+    z = np.zeros(3)
+    assert not friction_lcp.from_basis(M, q, np.array([True, True, True]), z)
+    z, basic = _lemke(M, q)  # Lemke's basis keeps one of the equal rows only
+    assert basic.tolist() in ([True, False, True], [False, True, True])
+    again = np.zeros(3)
+    assert friction_lcp.from_basis(M, q, basic, again)
+    np.testing.assert_allclose(M @ again + q, [0.0, 0.0, 0.0], atol=1e-15)
+
+
+def _frictional_pile(n: int, mu: float):
+    scene = pile_scene(n, gap=0.0)
+    for body in scene.bodies:
+        body.friction = mu
+    return scene
+
+
+def test_a_sticking_pile_gets_lemkes_forces_from_its_remembered_bases():
+    """A packed pile of 12 discs with mu = 0.5 (dependent rows: more contacts than velocities):
+    the forces of a stepped world's frame solved again with the remembered bases and cold
+    (bases cleared) give the same accelerations, and its bases were used: the warm solve
+    leaves them as they were."""
+    world = runtime.World(_frictional_pile(12, 0.5))
+    for _ in range(20):
+        world.step(1e-3)
+    stepper, contacts = world.stepper, world.contacts
+    q, v = world.poses, world.velocities
+    assert 2 * len(contacts) > 3 * 12  # normal and tangential rows: more than the velocities
+    resting = stepper.contact_forces(contacts, q, v)
+    warm = resting.problem.basis.copy()
+    assert np.count_nonzero(warm) > 0
+    again = stepper.contact_forces(contacts, q, v)
+    assert np.array_equal(again.problem.basis, warm)
+    stepper.forces.bases = type(stepper.forces.bases)(dtype=np.int8)
+    cold = stepper.contact_forces(contacts, q, v)
+    np.testing.assert_allclose(again.accelerations, cold.accelerations, atol=1e-9)
+    assert np.all(np.abs(again.accelerations[~stepper.fixed]) < 1e-9)  # it sticks: at rest
+
+
+@pytest.mark.parametrize("discs", [12, 20])
+def test_a_frictional_pile_keeps_coulombs_law_at_every_step(discs, monkeypatch):
+    """The packed 12-disc pile's first frame ends Lemke's method on a ray: it is solved held
+    (friction_lcp.solve_held, counted here), the 20-disc pile's by Lemke's method and bases."""
+    held, original = [], friction.solve_held
+
+    def counted(*args):
+        held.append(original(*args))
+        return held[-1]
+
+    monkeypatch.setattr(friction, "solve_held", counted)
+    run = runtime.simulate(_frictional_pile(discs, 0.5), duration=0.05, dt=1e-3)
+    for f_n, f_t in zip(run.contact_forces, run.friction_forces, strict=True):
+        assert np.all(f_n >= 0.0)
+        assert np.all(np.abs(f_t) <= 0.5 * f_n * (1 + 1e-9) + 1e-12)
+    assert run.max_penetration < 1e-9
+    assert (True in held) == (discs == 12)
+    assert np.all(np.abs(run.velocities[-1]) < 1e-6)  # it stays at rest

@@ -50,6 +50,8 @@ ASSEMBLY = "runtime/solve/assembly.py"
 IMPULSES = "runtime/solve/impulses.py"
 LOADED = "runtime/solve/lcp_loaded.py"
 LOADED_TESTS = "tests/runtime/test_lcp_loaded.py"
+FRICTION_LCP = "runtime/solve/friction_lcp.py"
+FRICTION_BASIS = "tests/runtime/test_friction_basis.py"
 IMPACTS = "tests/runtime/test_collisions.py tests/runtime/test_moving_pairs.py"
 CONTACTS = "tests/runtime/test_contacts.py tests/runtime/test_contact_properties.py"
 EVENTS = "runtime/step/events.py"
@@ -132,6 +134,9 @@ MUTANTS: list[Mutant] = [
     Mutant("loaded:force-sign-unchecked", LOADED, "if rows[i] and not s > 0.0:", "if False:", LOADED_TESTS, "a loaded contact whose body-space force comes out negative accepted: a pulling force"),
     Mutant("loaded:lcp-check-dropped", LOADED, "if not env.valid(a_ptr, a_idx, s_data, bs, np.zeros(m, np.bool_), fs, _TOL, a, tol_a):", "if False:", LOADED_TESTS, "the body-space forces accepted without checking the LCP conditions"),
     Mutant("loaded:null-space-kept", LOADED, "            _remove_component(null, a, step)", "            pass", LOADED_TESTS, "K^+ without projecting off K's null space: a loaded set that leaves a body free solved as if it fixed it"),
+    # runtime/solve/friction_lcp.py, friction.py: the remembered basis and the held fallback
+    Mutant("friction:basis-unchecked", FRICTION_LCP, "if (abs(w) if held[i] else -w) > tol * scale:", "if False:", FRICTION_BASIS, "a remembered basis accepted without checking w = M z + q: the wrong forces of a stale basis"),
+    Mutant("friction:held-fallback-dropped", "runtime/solve/friction.py", "if solve_island(*args) != SOLVED and not solve_held(*args):", "if solve_island(*args) != SOLVED:", FRICTION_BASIS, "no held fallback when Lemke's method ends on a ray: a packed pile's first frame named a Painleve configuration"),
     # runtime/solve/impulses.py
     Mutant("impulses:restitution-factor", IMPULSES, "(1.0 + restitution[wave]) * rate[wave]", "restitution[wave] * rate[wave]", IMPACTS, "Newton's law with e instead of (1 + e)"),
     Mutant("impulses:wave-not-propagated", IMPULSES, "rate += A[:, wave] @ p", "rate[wave] += A[wave][:, wave] @ p", IMPACTS, "a wave's impulses not passed to the touching contacts (Newton's cradle)"),

@@ -20,7 +20,8 @@ The transitions inside a step (stick -> slip when |f_t| reaches mu f_n, slip -> 
 crosses 0) are located by runtime.step.friction_events and start a new frame there.
 
 Islands without a frictional contact are solved as without friction (runtime.solve.forces),
-bit for bit; the others by Lemke's method on the friction LCP.
+bit for bit; the others by Lemke's method on the friction LCP, first tried from the basis each
+contact had at its last solve (runtime.solve.friction_lcp).
 """
 
 from __future__ import annotations

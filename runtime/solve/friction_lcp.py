@@ -37,11 +37,11 @@ its M_BB is the basis matrix of the tableau.
 
 When every frictional contact of an island sticks and Lemke's method still ends on a ray (a
 packed pile of 12 discs at rest did, at its first step: its rows are dependent and the problem
-degenerate, and the perturbed retries did not help), the island is tried as held: the normal rows
-and every contact's d'' and a_t 0: a linear program for forces in the cones (|f_t| <= mu f_n),
-which dependent rows do not trouble (:func:`solve_held`). Its forces, checked on M and q, solve
-the friction LCP with lambda = 0. (The least-norm forces of that held system are not enough:
-in the 12-disc pile a third of them left their cones.)
+degenerate, and the perturbed retries did not help), the island is tried as held, every
+contact's d'' and a_t at 0: a linear program for forces in the cones (|f_t| <= mu f_n), which
+dependent rows do not trouble (:func:`solve_held`). Its forces, checked on M and q, solve the
+friction LCP with lambda = 0. (The least-norm forces of that held system are not enough: in the
+12-disc pile a third of them left their cones.)
 """
 
 from __future__ import annotations

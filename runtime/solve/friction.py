@@ -33,9 +33,14 @@ import numpy as np
 from runtime import settings
 from runtime.collide.contact_keys import Guesses
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution
-from runtime.solve.friction_lcp import FrictionInconsistent, painleve, solve_held, solve_island
+from runtime.solve.friction_lcp import (
+    FrictionInconsistent,
+    island_slips,
+    painleve,
+    solve_held,
+    solve_islands,
+)
 from runtime.solve.friction_rows import FrictionRows
-from runtime.solve.lemke import SOLVED
 
 
 @dataclass
@@ -150,19 +155,28 @@ class FrictionalForces(ContactForces):
         jac, tangent_jac = rows.jacobian, rows.tangent_jacobian
         slack = np.zeros(m)
         slide = slide.astype(float)
-        for g in np.flatnonzero(with_friction):
+        args = (
+            offsets, jac, tangent_jac, ends, bias, rows.tangent_bias, rows.mu, slide,
+            self.inverse_mass, self.fixed, self.free_acceleration, forces, tangent, slack, a_t,
+            rates, acc, problem.basis,
+        )  # fmt: skip
+        todo = np.flatnonzero(with_friction)
+        while todo.size:
+            failed = solve_islands(todo, *args, slips)
+            if failed < 0:
+                break
+            g = todo[failed]
             a, b = int(offsets[g]), int(offsets[g + 1])
-            args = (
+            held = solve_held(
                 jac[a:b], tangent_jac[a:b], ends[a:b], bias[a:b], rows.tangent_bias[a:b],
                 rows.mu[a:b], slide[a:b], self.inverse_mass, self.fixed, self.free_acceleration,
                 forces[a:b], tangent[a:b], slack[a:b], a_t[a:b], rates[a:b], acc,
                 problem.basis[a:b],
             )  # fmt: skip
-            if solve_island(*args) != SOLVED and not solve_held(*args):
+            if not held:
                 raise painleve(rows.mu[a:b], slide[a:b])
-            scale = max(float(np.max(np.abs(rates[a:b]), initial=0.0)), 1.0)
-            pressed = forces[a:b] > settings.SLIP_ONSET * float(np.max(forces[a:b]))
-            slips[a:b] = (slack[a:b] > settings.SLIP_ONSET * scale) & pressed
+            island_slips(forces[a:b], slack[a:b], rates[a:b], slips[a:b])
+            todo = todo[failed + 1 :]
         return FrictionSolution(acc, forces, rates, tangent, a_t, slips)
 
 

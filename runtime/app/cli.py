@@ -23,6 +23,7 @@ Only the standard library is imported at the top, so Ctrl-C during start-up is c
 
 from __future__ import annotations
 
+import _thread
 import argparse
 import math
 import re
@@ -303,12 +304,31 @@ def _terminate(_signum: int, _frame: Any) -> None:
     raise Terminated("terminated")
 
 
+def redeliver(unraisable: Any, default: Any = sys.__unraisablehook__) -> None:
+    """sys.unraisablehook: a Ctrl-C or SIGTERM that lands in a finaliser (llvmlite frees its
+    objects there while numba compiles, at start-up) cannot propagate, and Python would print it
+    as an "Exception ignored ... Traceback" and go on; it is delivered to the main thread again
+    instead, where the command turns it into one line: from a helper thread, so that it arrives
+    after this hook has returned (raised in the hook, it would be printed the same way).
+    Anything else, or an interrupt at shutdown (no thread can start), goes to ``default``."""
+    kind = unraisable.exc_type
+    if kind is not None and issubclass(kind, KeyboardInterrupt):
+        signum = signal.SIGTERM if issubclass(kind, Terminated) else signal.SIGINT
+        try:
+            _thread.start_new_thread(_thread.interrupt_main, (signum,))
+            return
+        except RuntimeError:
+            pass
+    default(unraisable)
+
+
 def main(argv: Sequence[str] | None = None, prog: str = PROG) -> int:
     """Entry point of the ``simulate`` console script; returns the exit status."""
     try:
         previous = signal.signal(signal.SIGTERM, _terminate)
     except ValueError:  # not the main thread: leave SIGTERM alone
         previous = None
+    hook, sys.unraisablehook = sys.unraisablehook, redeliver
     try:
         args = _parser(prog).parse_args(argv)
         return run_command(args, prog)
@@ -318,6 +338,7 @@ def main(argv: Sequence[str] | None = None, prog: str = PROG) -> int:
     except INTERRUPTIBLE as exc:
         return interrupted(exc, prog)
     finally:
+        sys.unraisablehook = hook
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
 

@@ -97,6 +97,45 @@ def test_ctrl_c_during_start_up_is_one_line(tmp_path, scene_file, delay):
     assert not (tmp_path / "o").exists()
 
 
+FINALISER_INTERRUPTED = """
+import os, signal, sys, time
+from runtime.app import cli
+
+class Interrupted:
+    def __del__(self):  # as llvmlite's finalisers, run while numba compiles
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.05)  # the KeyboardInterrupt is raised here, inside the finaliser
+
+class Failing:
+    def __del__(self):
+        raise ValueError("a finaliser's own error")
+
+sys.unraisablehook = cli.redeliver
+Failing()
+try:
+    Interrupted()
+    time.sleep(5)
+    print("not interrupted")
+except KeyboardInterrupt:
+    print("interrupted in the main thread")
+"""
+
+
+def test_a_ctrl_c_in_a_finaliser_reaches_the_main_thread_and_other_errors_still_print(tmp_path):
+    """The start-up Ctrl-C of test_ctrl_c_during_start_up_is_one_line, when it lands in a
+    finaliser (where Python can only print it): cli.redeliver raises it again in the main thread;
+    a finaliser's other errors are printed as Python prints them."""
+    import subprocess
+    import sys
+
+    done = subprocess.run(
+        [sys.executable, "-c", FINALISER_INTERRUPTED], capture_output=True, text=True, timeout=60
+    )
+    assert done.stdout.strip() == "interrupted in the main thread"
+    assert "KeyboardInterrupt" not in done.stderr
+    assert "ValueError: a finaliser's own error" in done.stderr
+
+
 def test_python_dash_m_runtime_is_the_command(tmp_path):
     run = start_command(["--help"], tmp_path)
     out, err = run.communicate(timeout=60)

@@ -67,6 +67,7 @@ lint: setup
 	$(VENV)/bin/ruff format --check .
 
 bench: setup
+	$(PY) -m pip install --quiet -e '.[dev,peers]'
 	$(PY) -m bench.kernels
 	$(PY) -m bench.collide
 	$(PY) -m bench.lcp

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import _thread
 import argparse
+import functools
 import math
 import re
 import signal
@@ -328,7 +329,8 @@ def main(argv: Sequence[str] | None = None, prog: str = PROG) -> int:
         previous = signal.signal(signal.SIGTERM, _terminate)
     except ValueError:  # not the main thread: leave SIGTERM alone
         previous = None
-    hook, sys.unraisablehook = sys.unraisablehook, redeliver
+    hook = sys.unraisablehook
+    sys.unraisablehook = functools.partial(redeliver, default=hook)
     try:
         args = _parser(prog).parse_args(argv)
         return run_command(args, prog)

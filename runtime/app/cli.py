@@ -23,7 +23,6 @@ Only the standard library is imported at the top, so Ctrl-C during start-up is c
 
 from __future__ import annotations
 
-import _thread
 import argparse
 import functools
 import math
@@ -35,6 +34,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
+from runtime.app.interrupts import Terminated, redeliver
 from runtime.app.text import folder_name, terminal_safe
 
 __all__ = ["main"]
@@ -48,10 +48,6 @@ DPI_RANGE = (10.0, 600.0)
 
 class UsageError(Exception):
     """Bad input from the user: reported in one line, exit status 2."""
-
-
-class Terminated(KeyboardInterrupt):
-    """SIGTERM, handled like Ctrl-C (clean-up runs) but with exit status 143."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -303,24 +299,6 @@ def run_command(args: argparse.Namespace, prog: str = PROG) -> int:
 
 def _terminate(_signum: int, _frame: Any) -> None:
     raise Terminated("terminated")
-
-
-def redeliver(unraisable: Any, default: Any = sys.__unraisablehook__) -> None:
-    """sys.unraisablehook: a Ctrl-C or SIGTERM that lands in a finaliser (llvmlite frees its
-    objects there while numba compiles, at start-up) cannot propagate, and Python would print it
-    as an "Exception ignored ... Traceback" and go on; it is delivered to the main thread again
-    instead, where the command turns it into one line: from a helper thread, so that it arrives
-    after this hook has returned (raised in the hook, it would be printed the same way).
-    Anything else, or an interrupt at shutdown (no thread can start), goes to ``default``."""
-    kind = unraisable.exc_type
-    if kind is not None and issubclass(kind, KeyboardInterrupt):
-        signum = signal.SIGTERM if issubclass(kind, Terminated) else signal.SIGINT
-        try:
-            _thread.start_new_thread(_thread.interrupt_main, (signum,))
-            return
-        except RuntimeError:
-            pass
-    default(unraisable)
 
 
 def main(argv: Sequence[str] | None = None, prog: str = PROG) -> int:

@@ -99,7 +99,7 @@ def test_ctrl_c_during_start_up_is_one_line(tmp_path, scene_file, delay):
 
 FINALISER_INTERRUPTED = """
 import os, signal, sys, time
-from runtime.app import cli
+from runtime.app.interrupts import redeliver
 
 class Interrupted:
     def __del__(self):  # as llvmlite's finalisers, run while numba compiles
@@ -110,7 +110,7 @@ class Failing:
     def __del__(self):
         raise ValueError("a finaliser's own error")
 
-sys.unraisablehook = cli.redeliver
+sys.unraisablehook = redeliver
 Failing()
 try:
     Interrupted()
@@ -123,7 +123,7 @@ except KeyboardInterrupt:
 
 def test_a_ctrl_c_in_a_finaliser_reaches_the_main_thread_and_other_errors_still_print(tmp_path):
     """The start-up Ctrl-C of test_ctrl_c_during_start_up_is_one_line, when it lands in a
-    finaliser (where Python can only print it): cli.redeliver raises it again in the main thread;
+    finaliser (where Python can only print it): interrupts.redeliver raises it again in the main thread;
     a finaliser's other errors are printed as Python prints them."""
     import subprocess
     import sys

@@ -112,9 +112,9 @@ MUTANTS: list[Mutant] = [
     Mutant("integrators:rk4-weights", STEP, "v + sixth * (a1 + 2.0 * (a2 + a3) + a4)", "v + sixth * (a1 + 3.0 * a2 + a3 + a4)", INTEGRATORS, "RK4's weights (sum still 6)"),
     Mutant("integrators:midpoint-full-step", STEP, "qm, vm = q + half * v, v + half * a1", "qm, vm = q + h * v, v + h * a1", INTEGRATORS, "midpoint evaluated at the end of the step"),
     Mutant("integrators:euler-half", STEP, "return q + h * v, v + h * a1", "return q + h * v, v + 0.5 * h * a1", INTEGRATORS, "Euler's velocity with half the step"),
-    Mutant("compiled:rk4-a3", COMPILED_STEP, "_stage(q0, v0, v2, a2, half, q, v3)", "_stage(q0, v0, v0, a2, half, q, v3)", STEPPING, "compiled RK4's third stage at the first stage's positions"),
+    Mutant("compiled:rk4-a3", COMPILED_STEP, "stage(q0, v0, v2, a2, half, q, v3)", "stage(q0, v0, v0, a2, half, q, v3)", STEPPING, "compiled RK4's third stage at the first stage's positions"),
     Mutant("compiled:rk4-weights", COMPILED_STEP, "v0[i, c] + sixth * (a0[i, c] + 2.0 * (a2[i, c] + a3[i, c]) + a4[i, c])", "v0[i, c] + sixth * (a0[i, c] + 3.0 * a2[i, c] + a3[i, c] + a4[i, c])", STEPPING, "compiled RK4's weights (sum still 6)"),
-    Mutant("compiled:midpoint-position", COMPILED_STEP, "_stage(q0, v0, v2, a2, h, q_out, v_out)", "_stage(q0, v0, v0, a2, h, q_out, v_out)", STEPPING, "compiled midpoint: positions advanced with the start's velocity"),
+    Mutant("compiled:midpoint-position", COMPILED_STEP, "stage(q0, v0, v2, a2, h, q_out, v_out)", "stage(q0, v0, v0, a2, h, q_out, v_out)", STEPPING, "compiled midpoint: positions advanced with the start's velocity"),
     # runtime/solve: the contact-force solver (issue #18: the fast path and the polish step)
     Mutant("lcp:single-row-pulls", DENSE, "if joint[0] or b[0] < 0.0 else 0.0", "if joint[0] or b[0] != 0.0 else 0.0", LCP, "one contact (the fast path): -b/A returned for b > 0, a pulling force"),
     Mutant("lcp:polish-unchecked", DENSE, "if hit or is_solution(S, b, joint, f, tol, a, tol_a):", "if True:", LCP, "the polish (PGS) fallback accepted without its residual check"),

@@ -81,6 +81,10 @@ class FrictionRowEvaluator(RowEvaluator):
         self.friction_modules = load_friction_cases(cases)
         self.friction = np.asarray(friction, dtype=float)
 
+    def mu(self, contacts: Contacts) -> np.ndarray:
+        """Each contact's friction coefficient (:func:`contact_friction`)."""
+        return contact_friction(self.friction, contacts)
+
     def rows(
         self, contacts: Contacts, poses: np.ndarray, velocities: np.ndarray, with_gaps: bool = True
     ) -> FrictionRows:
@@ -97,7 +101,7 @@ class FrictionRowEvaluator(RowEvaluator):
                 )  # fmt: skip
         return FrictionRows(
             *(getattr(normal, f) for f in Rows.__dataclass_fields__),
-            mu=contact_friction(self.friction, contacts),
+            mu=self.mu(contacts),
             tangent_velocity=rate,
             tangent_jacobian=jacobian,
             tangent_bias=bias,

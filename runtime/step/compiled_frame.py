@@ -115,39 +115,66 @@ def _block(jac, body1, body2, inv_mass, fixed, members, start, stop):
 
 
 @njit
+def touching_islands(body1, body2, fixed, modes, rate, creep, n):
+    """The touching contacts grouped by island (members, offsets), and whether each island has
+    a contact approaching faster than ``creep`` (it has impacts to resolve)."""
+    touching = np.flatnonzero(modes != OPEN)
+    labels = _contact_labels(n, body1, body2, fixed, touching)
+    members, offsets = _groups(labels, touching)
+    approaching = np.zeros(offsets.size - 1, np.bool_)
+    for g in range(offsets.size - 1):
+        for k in members[offsets[g] : offsets[g + 1]]:
+            if rate[k] < -creep:
+                approaching[g] = True
+    return members, offsets, approaching
+
+
+@njit
+def restitution_of(body1, body2, rate, restitution, recent, resting_speed, island):
+    """e of each contact of an island: the larger of its bodies', 0 for a resting contact
+    (``recent``) that drifted open and now approaches (not a collision)."""
+    e = np.empty(island.size)
+    for q in range(island.size):
+        k = island[q]
+        e[q] = max(restitution[body1[k]], restitution[body2[k]])
+        if recent[k] and rate[k] < -resting_speed:
+            e[q] = 0.0
+    return e
+
+
+@njit
+def impact_island(jac, body1, body2, inv_mass, fixed, rate, e, resting_speed, creep, island, v,
+                  impulses):  # fmt: skip
+    """Resolve one island's impacts (resolve_island), v and rate updated; False if its impulse
+    problem has no solution."""
+    A = _block(jac, body1, body2, inv_mass, fixed, island, 0, island.size)
+    p = np.zeros(island.size)
+    if resolve_island(A, rate[island].copy(), e, resting_speed, creep, p) < 0:
+        return False
+    for q in range(island.size):
+        impulses[island[q]] += p[q]
+    _velocity_change(jac, body1, body2, inv_mass, island, p, v, rate)
+    return True
+
+
+@njit
 def _impacts(jac, body1, body2, inv_mass, fixed, modes, rate, restitution, recent, limits,
              limit, v, impulses):  # fmt: skip
     """Resolve the impacts among the touching contacts, island by island (resolve_island);
     False if an island is too large or its impulse problem has no solution."""
     touch, hold, resting_speed, separation, creep = limits
-    n = v.shape[0]
-    touching = np.flatnonzero(modes != OPEN)
-    labels = _contact_labels(n, body1, body2, fixed, touching)
-    members, offsets = _groups(labels, touching)
+    members, offsets, approaching = touching_islands(body1, body2, fixed, modes, rate, creep,
+                                                     v.shape[0])  # fmt: skip
     for g in range(offsets.size - 1):
-        start, stop = offsets[g], offsets[g + 1]
-        island = members[start:stop]
-        approaching = False
-        for k in island:
-            if rate[k] < -creep:
-                approaching = True
-        if not approaching:
+        if not approaching[g]:
             continue
-        if stop - start > limit:
+        if offsets[g + 1] - offsets[g] > limit:
             return False
-        A = _block(jac, body1, body2, inv_mass, fixed, members, start, stop)
-        e = np.empty(island.size)
-        for q in range(island.size):
-            k = island[q]
-            e[q] = max(restitution[body1[k]], restitution[body2[k]])
-            if recent[k] and rate[k] < -resting_speed:
-                e[q] = 0.0  # a resting contact drifted open: not a collision
-        p = np.zeros(island.size)
-        if resolve_island(A, rate[island].copy(), e, resting_speed, creep, p) < 0:
+        island = members[offsets[g] : offsets[g + 1]]
+        e = restitution_of(body1, body2, rate, restitution, recent, resting_speed, island)
+        if not impact_island(jac, body1, body2, inv_mass, fixed, rate, e, resting_speed, creep,
+                             island, v, impulses):  # fmt: skip
             return False
-        for q in range(island.size):
-            impulses[island[q]] += p[q]
-        _velocity_change(jac, body1, body2, inv_mass, island, p, v, rate)
     return True
 
 
@@ -237,6 +264,54 @@ def _press(jac, body1, body2, inv_mass, fixed, modes, pressed, rate, limit, v, i
     return True
 
 
+UNCHANGED, MODES, PRESS = 0, 1, 2  # what a settle round changed
+
+
+@njit
+def settle_round(jac, body1, body2, bias, acc, forces, rates, rate, tol, creep, separation,
+                 modes, pressed):  # fmt: skip
+    """One press/lift round (the policy of runtime.step.resting) on the resting forces and
+    accelerations of the round before: ``modes`` and ``pressed`` updated. Returns UNCHANGED
+    (settled), MODES (modes changed, nothing to press) or PRESS (contacts ``pressed`` and
+    resting are to be pressed)."""
+    scale = 1.0
+    for k in range(rate.size):
+        if modes[k] == RESTING:
+            scale = max(scale, abs(rates[k]))
+    threshold = tol * scale
+    lift_now = np.zeros(rate.size, np.bool_)
+    press_now = np.zeros(rate.size, np.bool_)
+    turned = np.zeros(rate.size, np.bool_)
+    for k in range(rate.size):
+        if modes[k] == RESTING and rate[k] > creep:
+            dd = _gap_acceleration(jac, body1, body2, bias, acc, k)
+            if forces[k] <= 0.0 and dd > threshold:
+                lift_now[k] = True
+            else:
+                press_now[k] = True
+        elif modes[k] == LIFTING:
+            dd = _gap_acceleration(jac, body1, body2, bias, acc, k)
+            if dd < -threshold or rate[k] < -creep:
+                press_now[k] = True
+        elif modes[k] == SEPARATING and rate[k] <= separation:  # a press slowed it
+            turned[k] = True
+    if not (np.any(lift_now) or np.any(press_now) or np.any(turned)):
+        return UNCHANGED
+    for k in range(rate.size):
+        if lift_now[k]:
+            modes[k] = LIFTING
+            pressed[k] = False
+        elif press_now[k]:
+            modes[k] = RESTING
+            pressed[k] = True
+        elif turned[k]:  # touching, no longer moving apart: it rests, pressed if closing
+            modes[k] = RESTING
+            if rate[k] < -creep:
+                press_now[k] = True
+                pressed[k] = True
+    return PRESS if np.any(press_now) else MODES
+
+
 @njit
 def settle_frame(
     q, case, body1, body2, geometry, static2, held, recent, restitution, mass,
@@ -285,42 +360,11 @@ def settle_frame(
         return False, 0.0
     pressed = np.zeros(gap.size, np.bool_)  # pressed once: they stay pressed
     for _ in range(rounds):
-        scale = 1.0
-        for k in range(gap.size):
-            if modes[k] == RESTING:
-                scale = max(scale, abs(rates[k]))
-        threshold = tol * scale
-        lift_now = np.zeros(gap.size, np.bool_)
-        press_now = np.zeros(gap.size, np.bool_)
-        turned = np.zeros(gap.size, np.bool_)
-        for k in range(gap.size):
-            if modes[k] == RESTING and rate[k] > creep:
-                dd = _gap_acceleration(jac, body1, body2, bias, acc, k)
-                if forces[k] <= 0.0 and dd > threshold:
-                    lift_now[k] = True
-                else:
-                    press_now[k] = True
-            elif modes[k] == LIFTING:
-                dd = _gap_acceleration(jac, body1, body2, bias, acc, k)
-                if dd < -threshold or rate[k] < -creep:
-                    press_now[k] = True
-            elif modes[k] == SEPARATING and rate[k] <= separation:  # a press slowed it
-                turned[k] = True
-        if not (np.any(lift_now) or np.any(press_now) or np.any(turned)):
+        change = settle_round(jac, body1, body2, bias, acc, forces, rates, rate, tol, creep,
+                              separation, modes, pressed)  # fmt: skip
+        if change == UNCHANGED:
             break
-        for k in range(gap.size):
-            if lift_now[k]:
-                modes[k] = LIFTING
-                pressed[k] = False
-            elif press_now[k]:
-                modes[k] = RESTING
-                pressed[k] = True
-            elif turned[k]:  # touching, no longer moving apart: it rests, pressed if closing
-                modes[k] = RESTING
-                if rate[k] < -creep:
-                    press_now[k] = True
-                    pressed[k] = True
-        if np.any(press_now):
+        if change == PRESS:
             target = pressed & (modes == RESTING)
             if not _press(jac, body1, body2, inv_mass, fixed, modes, target, rate, limit, v,
                           impulses):  # fmt: skip

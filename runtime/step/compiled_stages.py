@@ -24,7 +24,7 @@ METHOD_ID = {"euler": 0, "midpoint": 1, "rk4": 2}
 
 
 @njit
-def _finite(a):
+def finite(a):
     """Whether every entry of ``a`` (1-d or 2-d, C-contiguous) is finite (no array made)."""
     for x in a.ravel():
         if not np.isfinite(x):
@@ -45,7 +45,7 @@ def accelerations(
     if m == 0:
         return True
     rows_by_case(q, v, members, body1, body2, geometry, static2, jac, bias)
-    if not (_finite(jac) and _finite(bias)):
+    if not (finite(jac) and finite(bias)):
         return False
     ok = np.zeros(offsets.size - 1, np.bool_)
     assembly.solve_small_islands(
@@ -59,7 +59,7 @@ def accelerations(
 
 
 @njit
-def _stage(q0, v0, dq, dv, h, q, v):
+def stage(q0, v0, dq, dv, h, q, v):
     """(q, v) = (q0 + h dq, v0 + h dv), in place: array expressions would make a temporary of
     every operation (with 10,000 copies, a quarter of the step went into making them)."""
     for i in range(q0.shape[0]):
@@ -76,7 +76,7 @@ def step(
     """(q_out, v_out) = one step of length h from (q0, v0) with first-stage accelerations a0;
     False if a stage needs the general path."""
     if method == 0:
-        _stage(q0, v0, v0, a0, h, q_out, v_out)
+        stage(q0, v0, v0, a0, h, q_out, v_out)
         return True
     m = case.size
     scratch = (np.empty(m), np.empty(m), np.empty((m, 6)), np.empty(m))
@@ -85,23 +85,29 @@ def step(
     half = 0.5 * h
     q = np.empty_like(q0)
     v2, a2 = np.empty_like(v0), np.empty_like(a0)
-    _stage(q0, v0, v0, a0, half, q, v2)
+    stage(q0, v0, v0, a0, half, q, v2)
     if not accelerations(q, v2, *args, a2, *scratch):
         return False
     if method == 1:
-        _stage(q0, v0, v2, a2, h, q_out, v_out)
+        stage(q0, v0, v2, a2, h, q_out, v_out)
         return True
     v3, a3 = np.empty_like(v0), np.empty_like(a0)
-    _stage(q0, v0, v2, a2, half, q, v3)
+    stage(q0, v0, v2, a2, half, q, v3)
     if not accelerations(q, v3, *args, a3, *scratch):
         return False
     v4, a4 = np.empty_like(v0), np.empty_like(a0)
-    _stage(q0, v0, v3, a3, h, q, v4)
+    stage(q0, v0, v3, a3, h, q, v4)
     if not accelerations(q, v4, *args, a4, *scratch):
         return False
+    rk4_sum(q0, v0, a0, v2, a2, v3, a3, v4, a4, h, q_out, v_out)
+    return True
+
+
+@njit
+def rk4_sum(q0, v0, a0, v2, a2, v3, a3, v4, a4, h, q_out, v_out):
+    """RK4's end state from its four stages' velocities and accelerations, in place."""
     sixth = h / 6.0
     for i in range(q0.shape[0]):
         for c in range(3):
             q_out[i, c] = q0[i, c] + sixth * (v0[i, c] + 2.0 * (v2[i, c] + v3[i, c]) + v4[i, c])
             v_out[i, c] = v0[i, c] + sixth * (a0[i, c] + 2.0 * (a2[i, c] + a3[i, c]) + a4[i, c])
-    return True

@@ -153,6 +153,23 @@ class Stepper:
             self._frame_call = Bound(compiled_frame.settle_frame)
             self._method_id = compiled_stages.METHOD_ID[method]
             self._quiet_call = Bound(quiet.is_quiet)
+        # a scene with friction: its trial steps in one compiled call each
+        self.compiled_friction = (
+            settings.COMPILED
+            and method in FIXED_STEP
+            and stabilisation is None
+            and not self.ovals
+            and self.friction is not None
+        )
+        if self.compiled_friction:
+            from runtime.step import compiled_friction, compiled_stages, quiet
+
+            self._friction_step = Bound(compiled_friction.step)
+            self._friction_frame_call = Bound(compiled_friction.settle_frame)
+            self._friction_frame = compiled_friction.frame
+            self._friction_quiet_call = Bound(compiled_friction.friction_quiet)
+            self._quiet_call = Bound(quiet.is_quiet)
+            self._method_id = compiled_stages.METHOD_ID[method]
 
     # -- stages ----------------------------------------------------------------------------
 
@@ -176,7 +193,11 @@ class Stepper:
             self.forces.stick_speed = limits.stick_speed
         contacts = self.collision.swept(q, margin, active)
         keys = self.collision.keys(contacts)
-        done = self._compiled_frame(contacts, keys, q, v, margin, limits) if self.compiled else None
+        done = None
+        if self.compiled:
+            done = self._compiled_frame(contacts, keys, q, v, margin, limits)
+        elif self.compiled_friction:
+            done = self._friction_frame(self, contacts, keys, q, v, margin, limits)
         if done is None:
             impacts = None if self.links is None else self.links.frame_impacts(q, v)
             frame = make_frame(self.evaluator, self.bodies, contacts, q, v, margin, self.held,
@@ -308,7 +329,11 @@ class Stepper:
 
     def trajectory(self, problem: ForceProblem, q, v, h: float, a0) -> Trajectory:
         """Stage 5: t -> state after integrating t from (q, v) with ``problem``'s forces."""
-        fast = self._fast(problem, q, v, a0) if self.compiled else None
+        fast = None
+        if self.compiled:
+            fast = self._fast(problem, q, v, a0)
+        elif self.compiled_friction:
+            fast = self._fast_friction(problem, q, v, a0)
         return Trajectory(self.method, self.rhs(problem), q, v, h, a0, fast)
 
     def _fast(self, problem: ForceProblem, q, v, a0):
@@ -320,11 +345,51 @@ class Stepper:
             problem.guess, self.forces.inverse_mass, self.fixed, self.forces.free_acceleration,
             settings.LCP_TOL, settings.DENSE_ISLAND,
         )  # fmt: skip
-        at = 3  # where h goes
+        return self._compiled_trial(self._step, args)
+
+    def _friction_args(self, problem):
+        """The arguments of problem's contacts for runtime.step.compiled_friction's step and
+        quiet check (case ... flags), or None where they cannot: an island without a
+        frictional contact, or modes not decided yet."""
+        c = problem.contacts
+        if problem.slide is None or len(c) == 0:
+            return None
+        mu = self.evaluator.mu(c)
+        if not (np.add.reduceat(mu > 0, problem.offsets[:-1]) > 0).all():
+            return None
+        return (
+            c.case, c.body1, c.body2, c.geometry, np.ascontiguousarray(self.fixed[c.body2]),
+            np.ascontiguousarray(np.column_stack([c.body1, c.body2])), problem.offsets, mu,
+            problem.slide.astype(float), problem.basis,
+        )  # fmt: skip
+
+    def _fast_friction(self, problem, q, v, a0):
+        """t -> the compiled step with friction (runtime.step.compiled_friction), or None."""
+        contacts = self._friction_args(problem)
+        if contacts is None:
+            return None
+        f = self.forces
+        args = (self._method_id, q, v, 0.0, a0, *contacts, f.inverse_mass, self.fixed,
+                f.free_acceleration)  # fmt: skip
+        return self._compiled_trial(self._friction_step, args)
+
+    def _friction_quiet(self, problem, end) -> bool:
+        """Whether the trial's ``end`` state has no friction transition to locate
+        (runtime.step.compiled_friction.friction_quiet); False where unsure."""
+        if problem.slide is None or len(problem.contacts) == 0:
+            return True
+        contacts = self._friction_args(problem)
+        f = self.forces
+        return contacts is not None and self._friction_quiet_call(
+            *end, *contacts, f.inverse_mass, self.fixed, f.free_acceleration
+        )
+
+    def _compiled_trial(self, call, args, at: int = 3):
+        """t -> call(*args with t at index ``at``, q_out, v_out), or None where it declines."""
 
         def step(t: float):
-            q_out, v_out = np.empty_like(q), np.empty_like(v)
-            if self._step(*args[:at], float(t), *args[at + 1 :], q_out, v_out):
+            q_out, v_out = np.empty_like(args[1]), np.empty_like(args[2])
+            if call(*args[:at], float(t), *args[at + 1 :], q_out, v_out):
                 self.evaluations += 3 if self._method_id == 2 else self._method_id
                 return q_out, v_out
             return None
@@ -372,7 +437,7 @@ class Stepper:
                 moved = sweep.displacement(reach[0], end[0], self.radii)
                 if np.any((moved > reach[1])[active]):
                     raise _Merge
-            if self.compiled and self._quiet(q, end, frame, resting.accelerations, remaining):
+            if self._quiet(q, end, frame, resting, remaining):
                 report.quiet = events == 0 and active is None
                 return end
             labels = self._islands(frame, active)
@@ -407,10 +472,16 @@ class Stepper:
                 new_q[members], new_v[members] = q_i[members], v_i[members]
             return new_q, new_v
 
-    def _quiet(self, q, end, frame: Frame, a0, h: float) -> bool:
-        """Whether the trial of length h from q (with the frame's velocities and accelerations
-        ``a0``) to ``end`` has nothing for the event search to find (runtime.step.quiet): then
-        it is the step, without the search."""
+    def _quiet(self, q, end, frame: Frame, resting: RestingSolution, h: float) -> bool:
+        """Whether the trial of length h from q (with the frame's velocities and the resting
+        accelerations) to ``end`` has nothing for the event search to find (runtime.step.quiet;
+        with friction, no friction transition either): then it is the step, without the
+        search."""
+        if not (self.compiled or self.compiled_friction):
+            return False
+        if self.compiled_friction and not self._friction_quiet(resting.problem, end):
+            return False
+        a0 = resting.accelerations
         c, rows, tables = frame.contacts, frame.rows, self.collision.finder.tables
         return self._quiet_call(
             q, end[0], end[1], frame.margin, self.radii, self.events.half_width,

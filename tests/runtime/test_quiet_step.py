@@ -90,7 +90,7 @@ def test_the_check_declines_each_kind_of_trial_end_the_search_must_see():
     q[ball, 1], v[ball, 1] = 0.11, -1.0  # radius 0.1: a gap of 1 cm
     frame, resting = stepper.settled_frame(q, v, 0.1, stepper.limits(0.1))
     assert len(frame.monitored) == 1 and abs(frame.rows.gap[0] - 0.01) < 1e-12  # the floor
-    assert stepper._quiet(q, (q, v), frame, resting.accelerations, 0.1)
+    assert stepper._quiet(q, (q, v), frame, resting, 0.1)
     for change in ("nan", "through", "dip"):
         end, end_v = q.copy(), v.copy()
         if change == "nan":
@@ -99,7 +99,7 @@ def test_the_check_declines_each_kind_of_trial_end_the_search_must_see():
             end[ball, 1] -= 0.01 + 1e-6
         else:
             end_v[ball, 1] = 1.0
-        assert not stepper._quiet(q, (end, end_v), frame, resting.accelerations, 0.1), change
+        assert not stepper._quiet(q, (end, end_v), frame, resting, 0.1), change
     # at rest, steps of 0.01 s: a margin of g h^2 = 1 mm; 1 cm sideways outruns it, yet is
     # too little to make the ball fast (a quarter of its half width, 2.5 cm)
     v[:] = 0.0
@@ -107,7 +107,7 @@ def test_the_check_declines_each_kind_of_trial_end_the_search_must_see():
     end = q.copy()
     end[ball, 0] += 0.01
     assert frame.margin[ball] < 0.01 < 0.025
-    assert not stepper._quiet(q, (end, v), frame, resting.accelerations, 0.01)
+    assert not stepper._quiet(q, (end, v), frame, resting, 0.01)
 
 
 def _disc_in_bowl_past_a_peg():

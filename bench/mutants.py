@@ -52,6 +52,8 @@ LOADED = "runtime/solve/lcp_loaded.py"
 LOADED_TESTS = "tests/runtime/test_lcp_loaded.py"
 FRICTION_LCP = "runtime/solve/friction_lcp.py"
 FRICTION_BASIS = "tests/runtime/test_friction_basis.py"
+COMPILED_FRICTION = "runtime/step/compiled_friction.py"
+COMPILED_FRICTION_TESTS = "tests/runtime/test_compiled_friction.py"
 IMPACTS = "tests/runtime/test_collisions.py tests/runtime/test_moving_pairs.py"
 CONTACTS = "tests/runtime/test_contacts.py tests/runtime/test_contact_properties.py"
 EVENTS = "runtime/step/events.py"
@@ -137,6 +139,10 @@ MUTANTS: list[Mutant] = [
     # runtime/solve/friction_lcp.py, friction.py: the remembered basis and the held fallback
     Mutant("friction:basis-unchecked", FRICTION_LCP, "if (abs(w) if held[i] else -w) > tol * scale:", "if False:", FRICTION_BASIS, "a remembered basis accepted without checking w = M z + q: the wrong forces of a stale basis"),
     Mutant("friction:held-fallback-dropped", "runtime/solve/friction.py", "            if not held:", "            if True:", FRICTION_BASIS, "no held fallback when Lemke's method ends on a ray: a packed pile's first frame named a Painleve configuration"),
+    # runtime/step/compiled_friction.py: friction on the compiled path
+    Mutant("compiled-friction:quiet-ignores-slide", COMPILED_FRICTION, "if slide[k] != 0.0 and not slide[k] * v_t[k] > 0.0:", "if False:", COMPILED_FRICTION_TESTS, "a trial whose sliding contact's slip crossed 0 (slip -> stick) called quiet: the transition not located"),
+    Mutant("compiled-friction:no-restitution-phase", COMPILED_FRICTION, "if phase == 1 and not np.any(e_w > 0.0):", "if phase == 1:", COMPILED_FRICTION_TESTS, "impacts with friction lose their restitution phase (plastic whatever e)"),
+    Mutant("compiled-friction:hold-keeps-slip", COMPILED_FRICTION, "target[r] = -v_t[stick[r]]", "target[r] = 0.0", COMPILED_FRICTION_TESTS, "the hold of sticking contacts leaves their residual slip"),
     # runtime/solve/impulses.py
     Mutant("impulses:restitution-factor", IMPULSES, "(1.0 + restitution[wave]) * rate[wave]", "restitution[wave] * rate[wave]", IMPACTS, "Newton's law with e instead of (1 + e)"),
     Mutant("impulses:wave-not-propagated", IMPULSES, "rate += A[:, wave] @ p", "rate[wave] += A[wave][:, wave] @ p", IMPACTS, "a wave's impulses not passed to the touching contacts (Newton's cradle)"),

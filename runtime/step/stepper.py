@@ -22,6 +22,8 @@ One step of length h from (q, v), for the bodies of one island (at first: all of
 
 A step whose trial is quiet (runtime.step.quiet) ends at 5; `simulate` steps stretches of such
 steps, with the same contacts, in one compiled loop of these same stages (runtime.step.coast).
+Stages 1-5 and the quiet check are compiled calls where they can be (runtime.step.compiled_frame,
+compiled_stages; with friction runtime.step.compiled_friction), the general path otherwise.
 
 So an impact in one corner of a scene sub-steps only its island. An impulse can send a body
 farther than its reach in step 1; then the islands are not independent any more, and the step

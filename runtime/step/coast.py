@@ -40,6 +40,66 @@ from runtime.step.world import _far_angle, _kinetic, _lifted, _momentum
 
 
 @njit
+def stretch_contacts(q, v, hi, finder, radii, moving, gravity, everyone, margin):
+    """Stage 1 of a coasted step: the contacts that can close within hi
+    (runtime.collide.finder.find), ``margin`` written. Returns (m, case, body1, body2,
+    geometry, feature, point, normal, gap, keys), m = -1 where the finder's Python must
+    decide (a margin out of range, candidate buffers too small, a gap not evaluated)."""
+    tol, groups, apart, rows, start, body, owner, compound, cand, inputs, nkeys, width = finder
+    _margins(v, hi, radii, moving, gravity, margin)
+    none = (-1, np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
+            np.zeros((0, 7)), np.zeros((0, 4), np.int64), np.zeros((0, 2)), np.zeros((0, 2)),
+            np.zeros(0), np.zeros(0, np.int64))  # fmt: skip
+    if _first_bad_margin(margin) >= 0:
+        return none
+    if compound:
+        p, widen, allow = q[owner], margin[owner], everyone[owner]
+    else:
+        p, widen, allow = q, margin, everyone
+    count = find_candidates(p, tol, widen, allow, groups, apart, rows, start, body, owner,
+                            compound, cand, inputs)  # fmt: skip
+    if count < 0 or count > cand.shape[0]:
+        return none
+    b1, b2, geometry_c, members, case_start = inputs
+    gap = np.empty(count)
+    if candidate_gaps(p, b1, b2, geometry_c, members, case_start, gap) != count:
+        return none
+    out = (np.empty(count, np.int64), np.empty(count, np.int64), np.empty(count, np.int64),
+           np.empty((count, 7)), np.empty((count, 4), np.int64), np.empty((count, 2)),
+           np.empty((count, 2)))  # fmt: skip
+    m = select(p, tol, widen, body, cand, count, b1, b2, gap, out) if count else 0
+    one, two = out[1][:m], out[2][:m]
+    if compound:
+        one, two = owner[one], owner[two]
+    feature = out[4][:m]
+    return (m, out[0][:m], one, two, out[3][:m], feature, out[5][:m], out[6][:m], gap[:m],
+            _packed(one, two, feature, nkeys, width))  # fmt: skip
+
+
+@njit
+def guarded_energy(q, q1, v1, frame_gap, one, two, radii, guards, wrap):
+    """The energy after a coasted step from q to (q1, v1), or NaN where one of the World's
+    guards (runtime.step.world: penetration, a centre through an edge or a body, non-finite
+    numbers, energy growth) would trip or an angle is to be wrapped: World.step then does the
+    step and names the failure."""
+    (penetration, segments, arcs, moved_rows, inner, hollow, energy0, energy_limit, e_mass,
+     e_inertia, gx, gy) = guards  # fmt: skip
+    if penetration > 0.0 and deepest_relative(frame_gap, one, two, radii)[1] > penetration:
+        return np.nan
+    if not (np.all(np.isfinite(q1)) and np.all(np.isfinite(v1))):
+        return np.nan
+    if penetration > 0.0 and (  # (a centre through a fixed edge, or through a body)
+        _crossing(q, q1, moved_rows, segments, arcs)[0] >= 0
+        or _passed_through(q, q1, inner, hollow)[0] >= 0
+    ):
+        return np.nan
+    e1 = _kinetic(e_mass, e_inertia, v1) - _lifted(e_mass, gx, gy, q1)
+    if e1 - energy0 > energy_limit or _far_angle(q1, wrap):
+        return np.nan
+    return e1
+
+
+@njit
 def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # noqa: C901
     """Steps to each of ``times`` from (q, v) at time t, while each is a quiet step (see the
     module docstring). ``finder``, ``memory``, ``bodies``, ``numbers``, ``guards``: the tables of
@@ -47,14 +107,13 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
     guards (:class:`Coaster`).
     Returns the number of steps done, the state after them, the records of the states before
     each, the contact set and each step's contacts and forces, and the memory to write back."""
-    tol, groups, apart, rows, start, body, owner, compound, cand, inputs, nkeys, width = finder
+    rows = finder[3]
     held_table, guess_keys, guess_clamped = memory
     (radii, moving, gravity, restitution, mass, inv_mass, fixed, free_acc, step_inv_mass,
      half_width, switches, depths, body_start) = bodies  # fmt: skip
     (method, lcp_tol, dense, rounds, touch, tolerance, resting_speed, creep, fast_pair,
      wrap) = numbers  # fmt: skip
-    (penetration, segments, arcs, moved_rows, inner, hollow, energy0, energy_limit, e_mass,
-     e_inertia, gx, gy) = guards  # fmt: skip
+    e_mass = guards[8]
     n, steps = q.shape[0], times.size
     clock, energies, min_gaps, losses = (
         np.empty(steps),
@@ -81,31 +140,10 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
         hi = times[i] - t  # as World.step's dt: the next grid time minus the time now
         # 1. the contacts that can close within h (runtime.collide.finder.find)
         margin = np.empty(n)
-        _margins(v, hi, radii, moving, gravity, margin)
-        if _first_bad_margin(margin) >= 0:
+        found_ = stretch_contacts(q, v, hi, finder, radii, moving, gravity, everyone, margin)
+        if found_[0] < 0:
             break
-        if compound:
-            p, widen, allow = q[owner], margin[owner], everyone[owner]
-        else:
-            p, widen, allow = q, margin, everyone
-        count = find_candidates(p, tol, widen, allow, groups, apart, rows, start, body, owner,
-                                compound, cand, inputs)  # fmt: skip
-        if count < 0 or count > cand.shape[0]:
-            break
-        b1, b2, geometry_c, members, case_start = inputs
-        gap = np.empty(count)
-        if candidate_gaps(p, b1, b2, geometry_c, members, case_start, gap) != count:
-            break
-        out = (np.empty(count, np.int64), np.empty(count, np.int64), np.empty(count, np.int64),
-               np.empty((count, 7)), np.empty((count, 4), np.int64), np.empty((count, 2)),
-               np.empty((count, 2)))  # fmt: skip
-        m = select(p, tol, widen, body, cand, count, b1, b2, gap, out) if count else 0
-        case, one, two = out[0][:m], out[1][:m], out[2][:m]
-        geometry, feature, point, normal = out[3][:m], out[4][:m], out[5][:m], out[6][:m]
-        gap = gap[:m]
-        if compound:
-            one, two = owner[one], owner[two]
-        found = _packed(one, two, feature, nkeys, width)
+        m, case, one, two, geometry, feature, point, normal, gap, found = found_
         if i == 0:  # the set of this stretch, and the memory the stepper has of it
             keys = found
             held = _looked_up(keys, held_table, np.ones(0, np.bool_))
@@ -158,17 +196,8 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
             break
         # the World's guards (runtime.step.world), its energy and angle wrap
         min_gap = frame_gap.min() if m else np.inf
-        if penetration > 0.0 and deepest_relative(frame_gap, one, two, radii)[1] > penetration:
-            break
-        if not (np.all(np.isfinite(q1)) and np.all(np.isfinite(v1))):
-            break
-        if penetration > 0.0 and (  # (a centre through a fixed edge, or through a body)
-            _crossing(q, q1, moved_rows, segments, arcs)[0] >= 0
-            or _passed_through(q, q1, inner, hollow)[0] >= 0
-        ):
-            break
-        e1 = _kinetic(e_mass, e_inertia, v1) - _lifted(e_mass, gx, gy, q1)
-        if e1 - energy0 > energy_limit or _far_angle(q1, wrap):
+        e1 = guarded_energy(q, q1, v1, frame_gap, one, two, radii, guards, wrap)
+        if not np.isfinite(e1):
             break
         # the record of the state before the step, and the step taken
         clock[i], energies[i], min_gaps[i], losses[i] = t, energy, min_gap, loss

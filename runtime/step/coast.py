@@ -239,18 +239,21 @@ class Stretch:
     forces: np.ndarray  # (steps, m): 0 where a contact does not rest
     resting: np.ndarray  # (steps, m) bool
     every: list[bool]  # per step: whether every contact rests
+    friction: np.ndarray | None = None  # (steps, m) friction forces f_t (None: no friction)
 
     def __len__(self) -> int:
         return len(self.t)
 
-    def contacts(self, i: int) -> tuple[Contacts, np.ndarray]:
-        """The resting contacts at record i and their forces (what runtime.step.stepper's
-        first frame records)."""
+    def contacts(self, i: int) -> tuple[Contacts, np.ndarray, np.ndarray | None]:
+        """The resting contacts at record i, their forces and friction forces (None without
+        friction): what runtime.step.stepper's first frame records."""
         every = Contacts(*self.kind, self.gap[i], self.point[i], self.normal[i])
+        friction = self.friction
         if self.every[i]:
-            return every, self.forces[i]
+            return every, self.forces[i], None if friction is None else friction[i]
         rest = self.resting[i]
-        return every.take(rest), self.forces[i][rest]
+        return (every.take(rest), self.forces[i][rest],
+                None if friction is None else friction[i][rest])  # fmt: skip
 
 
 class Coaster:
@@ -263,7 +266,14 @@ class Coaster:
         self.world = world
         records = settings.COAST_RECORD_BYTES // (48 * stepper.n)  # 48 bytes: a body's q and v
         self.batch = int(min(settings.COAST_BATCH, max(1, records)))  # steps a call at most
-        self._call = Bound(coast)
+        self._friction = None
+        if stepper.compiled_friction:  # imported here: a frictionless scene never loads it
+            from runtime.step.coast_friction import coast_friction
+
+            self._call = Bound(coast_friction)
+            self._friction = (np.asarray(stepper.evaluator.friction, dtype=float),)
+        else:
+            self._call = Bound(coast)
         self._wait = self._patience = 0
         t = finder.tables
         self._finder = (
@@ -299,9 +309,11 @@ class Coaster:
 
     @staticmethod
     def applies(world) -> bool:
-        """Whether a World's steps can coast: the compiled path, with int64 contact keys."""
+        """Whether a World's steps can coast: the compiled path (with or without friction),
+        with int64 contact keys."""
         stepper = world.stepper
-        return stepper.compiled and stepper.collision.finder.keys.packed
+        compiled = stepper.compiled or stepper.compiled_friction
+        return compiled and stepper.collision.finder.keys.packed
 
     def ready(self, quiet: bool) -> bool:
         """Whether to try after a step that was (or was not) ``quiet``: after an attempt that did
@@ -321,30 +333,39 @@ class Coaster:
         buffers = (finder._candidates, finder._kernel_inputs)  # (the finder may grow them)
         tables = (*self._finder, *buffers, finder.keys.n, finder.keys.width)
         memory = stepper.forces.memory
+        remembered = (stepper.held, memory.keys, memory.clamped)
+        friction = self._friction
+        if friction is not None:
+            bases = stepper.forces.bases
+            remembered = (*remembered, bases.keys, bases.clamped)
         with np.errstate(all="ignore"):
             done, t, q, v, energy, evaluations, records, kind, contacts, written = self._call(
                 times, world.t, world.poses, world.velocities, float(world.energy()),
-                tables, (stepper.held, memory.keys, memory.clamped), self._bodies,
-                self._numbers, self._guards,
+                tables, remembered, self._bodies, self._numbers, self._guards,
+                *(() if friction is None else friction),
             )  # fmt: skip
         if done == 0:
             self._patience = min(max(2 * self._patience, 1), settings.COAST_PATIENCE)
             self._wait = self._patience
             return None
         self._patience = 0
-        keys, held, before, guesses, touched = written
+        keys, held, before, guesses, touched = written[:5]
         recent = stepper.held if done == 1 else key_set(keys[before])
         stepper.held, stepper.recent = key_set(keys[held]), recent
         memory.update(keys[touched], guesses[touched])
+        if friction is not None:
+            stepper.forces.bases.update(keys[touched], written[5][touched])
         stepper.evaluations += evaluations
         clock, poses, velocities, energies, momenta, min_gaps, losses = (r[:done] for r in records)
         last = (clock[-1], poses[-1], velocities[-1], times[done - 1] - clock[-1])
         world.advanced(t, q, v, energy, done, last)
         for a in kind:
             a.flags.writeable = False
-        gap, point, normal, forces, resting = (a[:done] for a in contacts)
+        gap, point, normal, forces, resting = (a[:done] for a in contacts[:5])
+        tangent = None if friction is None else contacts[5][:done]
         return Stretch(clock, poses, velocities, energies, momenta, min_gaps, losses, kind,
-                       gap, point, normal, forces, resting, resting.all(axis=1).tolist())  # fmt: skip
+                       gap, point, normal, forces, resting, resting.all(axis=1).tolist(),
+                       tangent)  # fmt: skip
 
 
 __all__ = ["Coaster", "Stretch", "coast"]

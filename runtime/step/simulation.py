@@ -143,7 +143,7 @@ class _Recorder:
 
     def add_coasted(self, stretch: Stretch, picks: list[int], losses: list[float]) -> None:
         """The records ``picks`` of a stretch of coasted steps, with the impact losses since
-        the record before each (a stretch has no joints and no friction)."""
+        the record before each (a stretch has no joints)."""
         self._flush()
         s = stretch
         block = {"t": s.t, "poses": s.poses, "velocities": s.velocities, "energy": s.energy,
@@ -153,7 +153,7 @@ class _Recorder:
         block["joints"] = np.zeros((len(picks), len(self.run.joint_names)))
         self.blocks.append(block)
         for i in picks:
-            self._contacts(*s.contacts(i), None)
+            self._contacts(*s.contacts(i))
 
     def _contacts(self, contacts, forces: np.ndarray, friction) -> None:
         self.run.contacts.append(contacts)
@@ -202,7 +202,7 @@ def _coaster(world: World):
     """The compiled loop over the World's quiet steps (runtime.step.coast), or None where its
     steps cannot coast (imported here: it compiles in every contact case, as the compiled
     path does, and a scene on the general path imports only its own cases' kernels)."""
-    if not world.stepper.compiled:
+    if not (world.stepper.compiled or world.stepper.compiled_friction):
         return None
     from runtime.step.coast import Coaster
 

@@ -16,6 +16,7 @@ import runtime.step.simulation as simulation
 from bench.scenes import falling_pile
 from runtime.step.coast import Coaster
 from runtime.step.guards import Guards
+from tests.runtime.test_friction import _pile
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
 ARRAYS = ("t", "poses", "velocities", "energy", "momentum", "min_gap", "impact_losses",
@@ -66,6 +67,8 @@ CASES = [  # scene, seconds, what the loop should do: coast only, or coast and d
     ("rounded_box_into_bowl.toml", 1.5, "both"),  # arcs and corners landing in an arc
     ("plank_on_cylinder.toml", 1.0, "both"),  # a plank rocking on a cylinder
     ("disc_over_cylinder.toml", 1.5, "both"),  # leaves the cylinder: a flight, no contacts
+    ("disc_rolling_in_bowl.toml", 3.0, "only"),  # friction: a sticking contact on an arc
+    ("block_on_incline.toml", 0.5, "only"),  # friction: a face sliding on its corners
 ]
 
 
@@ -88,6 +91,20 @@ def test_a_landing_pile_runs_the_same_coasting_or_not(monkeypatch):
     _assert_same_runs(coasting, stepping)
     assert len(stepping.impact_times) > 20
     assert sum(coasted) > 50 and 0 in coasted
+
+
+def test_boxes_and_a_disc_thrown_onto_a_floor_with_friction_run_the_same_coasting_or_not(
+    monkeypatch,
+):
+    """Friction: impacts with restitution, tipping, sticking and sliding, stick <-> slip; the
+    friction forces of every record too (runtime.step.coast_friction)."""
+    options = {"duration": 1.5, "dt": 1e-3}
+    coasting, coasted = _simulate(_pile(0.6), True, monkeypatch, **options)
+    stepping, _ = _simulate(_pile(0.6), False, monkeypatch, **options)
+    _assert_same_runs(coasting, stepping)
+    assert len(stepping.impact_times) > 10
+    assert sum(coasted) > 300 and 0 in coasted
+    assert max(np.max(np.abs(f), initial=0.0) for f in coasting.friction_forces) > 0.1
 
 
 def test_records_every_few_steps_and_a_short_last_step_are_the_same(monkeypatch):
@@ -121,6 +138,7 @@ def test_a_guard_that_trips_inside_a_stretch_names_the_same_step(monkeypatch):
     [
         ("rounded_box_into_bowl.toml", 150),  # landed, resting on arcs and corners
         ("box_on_floor.toml", 0),  # from the start: the memory is empty, the stretch fills it
+        ("disc_rolling_in_bowl.toml", 5),  # friction: the bases remembered too
     ],
 )
 def test_a_stretch_leaves_the_world_and_its_memory_as_steps_one_by_one(name, before):
@@ -144,13 +162,17 @@ def test_a_stretch_leaves_the_world_and_its_memory_as_steps_one_by_one(name, bef
     assert len(b.forces.memory) > 0
     assert np.array_equal(a.forces.memory.keys, b.forces.memory.keys)
     assert np.array_equal(a.forces.memory.clamped, b.forces.memory.clamped)
+    if b.friction is not None:
+        assert len(b.forces.bases) > 0
+        assert np.array_equal(a.forces.bases.keys, b.forces.bases.keys)
+        assert np.array_equal(a.forces.bases.clamped, b.forces.bases.clamped)
     assert a.evaluations == b.evaluations
     assert np.array_equal(coasting.contact_forces, stepping.contact_forces)  # at the state now
     for _ in range(20):  # and the steps after
         coasting.step(dt)
         stepping.step(dt)
     assert np.array_equal(coasting.poses, stepping.poses)
-    record, forces = stretch.contacts(len(stretch) - 1)
+    record, forces, _ = stretch.contacts(len(stretch) - 1)
     assert len(record) == len(forces) > 0
     with pytest.raises(ValueError, match="read-only"):  # shared by the stretch's records
         record.body1[0] = 0

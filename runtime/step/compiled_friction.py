@@ -112,32 +112,44 @@ def step(
 
 
 @njit
-def friction_quiet(q, v, case, body1, body2, geometry, static2, ends, offsets, mu, slide, flags,
-                   inv_mass, fixed, free_acc):  # fmt: skip
-    """Whether a trial's end state (q, v) has no friction transition for the event search
-    (runtime.step.friction_events) to locate: every sliding contact still slides the same way
-    (s v_t > 0), and the friction LCP there lets no sticking contact slip (solved from a copy
-    of the bases ``flags``, as the search's solves leave them alone). False where unsure."""
+def friction_state(q, v, case, body1, body2, geometry, static2, ends, offsets, mu, slide, flags,
+                   inv_mass, fixed, free_acc, v_t, a_t, slips):  # fmt: skip
+    """v_t, a_t and the stick -> slip flags (runtime.solve.friction.FrictionSolution.slips) of
+    the contacts at (q, v) with their modes ``slide``, solved from the bases ``flags`` (updated,
+    as the general path's solve updates them): what the friction event search
+    (runtime.step.friction_events) asks at each instant. False if the general path must solve."""
     m = case.size
-    if m == 0:
-        return True
     members = by_case(case)
-    v_t = np.empty(m)
     tangent_velocity_by_case(q, v, members, body1, body2, geometry, static2, v_t)
-    sticking = False
-    for k in range(m):
-        if slide[k] != 0.0 and not slide[k] * v_t[k] > 0.0:
-            return False
-        sticking = sticking or (mu[k] > 0.0 and slide[k] == 0.0)
-    if not sticking:
-        return True
     work = scratch(m)
     acc = np.empty_like(free_acc)
     if not accelerations(q, v, members, body1, body2, geometry, static2, ends, offsets,
-                         np.arange(offsets.size - 1), mu, slide, flags.copy(), inv_mass, fixed,
+                         np.arange(offsets.size - 1), mu, slide, flags, inv_mass, fixed,
                          free_acc, acc, work):  # fmt: skip
         return False
-    return not np.any(work[-1])
+    a_t[:] = work[7]
+    slips[:] = work[9]
+    return True
+
+
+@njit
+def friction_quiet(q, v, case, body1, body2, geometry, static2, ends, offsets, mu, slide, flags,
+                   inv_mass, fixed, free_acc):  # fmt: skip
+    """Whether a trial's end state (q, v) has no friction transition for the event search to
+    locate: every sliding contact still slides the same way (s v_t > 0), and the friction LCP
+    there (:func:`friction_state`, from a copy of the bases ``flags``: the search's solves
+    leave them alone) lets no sticking contact slip. False where unsure."""
+    m = case.size
+    if m == 0:
+        return True
+    v_t, a_t, slips = np.empty(m), np.empty(m), np.empty(m, np.bool_)
+    if not friction_state(q, v, case, body1, body2, geometry, static2, ends, offsets, mu, slide,
+                          flags.copy(), inv_mass, fixed, free_acc, v_t, a_t, slips):  # fmt: skip
+        return False
+    for k in range(m):
+        if slide[k] != 0.0 and not slide[k] * v_t[k] > 0.0:
+            return False
+    return not np.any(slips)
 
 
 # -- the frame ----------------------------------------------------------------------------------

@@ -44,6 +44,9 @@ class FrictionEvents:
         (runtime.step.collision.Collision.refresh_ovals), as the trial's right-hand side does."""
         self.evaluator, self.forces, self.fixed, self.refresh = evaluator, forces, fixed, refresh
         self.with_gaps = forces.stabilisation is not None
+        # the state's v_t, a_t and slips in one compiled call (runtime.step.compiled_friction.
+        # friction_state), set by the stepper when it runs friction compiled
+        self.state_call = None
 
     def first(
         self,
@@ -73,34 +76,52 @@ class FrictionEvents:
         return found
 
     def _state(self, sub: FrictionProblem, traj) -> Callable:
-        """t -> the island's friction solution at its trajectory's state at t."""
-        cache: dict[float, object] = {}
+        """t -> (v_t, a_t, slips) of the island's contacts at its trajectory's state at t (the
+        friction solution there)."""
+        cache: dict[float, tuple] = {}
+        fast = None if self.state_call is None else self._compiled_args(sub)
 
         def at(t: float):
             if t not in cache:
                 q, v = traj.at(t)
+                if fast is not None:
+                    m = len(sub.contacts)
+                    out = (np.empty(m), np.empty(m), np.empty(m, bool))
+                    if self.state_call(q, v, *fast, *out):
+                        cache[t] = out
+                        return out
                 contacts = self.refresh(sub.contacts, q)
                 rows = self.evaluator.rows(contacts, q, v, self.with_gaps)
-                cache[t] = (rows, self.forces.solve(sub, rows))
+                solution = self.forces.solve(sub, rows)
+                cache[t] = (rows.tangent_velocity, solution.tangent_accelerations, solution.slips)
             return cache[t]
 
         return at
+
+    def _compiled_args(self, sub: FrictionProblem) -> tuple:
+        """The arguments of runtime.step.compiled_friction.friction_state for ``sub`` but the
+        state and the outputs (its basis flags: updated by each solve, as the general path's)."""
+        c = sub.contacts
+        f = self.forces
+        return (
+            c.case, c.body1, c.body2, c.geometry, np.ascontiguousarray(self.fixed[c.body2]),
+            np.ascontiguousarray(np.column_stack([c.body1, c.body2])), sub.offsets,
+            self.evaluator.mu(c), sub.slide.astype(float), sub.basis, f.inverse_mass,
+            self.fixed, f.free_acceleration,
+        )  # fmt: skip
 
     def _slip_to_stick(self, sub: FrictionProblem, state, h: float) -> float | None:
         sliding = np.flatnonzero(sub.slide != 0)
         if sliding.size == 0:
             return None
-        rows_end, _ = state(h)
-        ends = sub.slide[sliding] * rows_end.tangent_velocity[sliding]
+        ends = sub.slide[sliding] * state(h)[0][sliding]
         earliest = None
         for k in sliding[ends <= 0].tolist():
             s = float(sub.slide[k])
 
             def speed(t: float, k=k, s=s) -> tuple[float, float]:
-                rows, solution = state(t)
-                return s * float(rows.tangent_velocity[k]), s * float(
-                    solution.tangent_accelerations[k]
-                )
+                v_t, a_t, _ = state(t)
+                return s * float(v_t[k]), s * float(a_t[k])
 
             start, end = speed(0.0)[0], speed(h)[0]
             guess = h * start / (start - end) if start > end else h
@@ -113,12 +134,12 @@ class FrictionEvents:
         return earliest
 
     def _stick_to_slip(self, sub: FrictionProblem, state, h: float) -> float | None:
-        if not state(h)[1].slips.any():
+        if not state(h)[2].any():
             return None
         lo, hi = 0.0, h
         while hi - lo > settings.SLIP_TIME * h:
             mid = 0.5 * (lo + hi)
-            if state(mid)[1].slips.any():
+            if state(mid)[2].any():
                 hi = mid
             else:
                 lo = mid

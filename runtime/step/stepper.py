@@ -170,6 +170,7 @@ class Stepper:
             self._friction_frame_call = Bound(compiled_friction.settle_frame)
             self._friction_frame = compiled_friction.frame
             self._friction_quiet_call = Bound(compiled_friction.friction_quiet)
+            self.friction.events.state_call = Bound(compiled_friction.friction_state)
             self._quiet_call = Bound(quiet.is_quiet)
             self._method_id = compiled_stages.METHOD_ID[method]
 

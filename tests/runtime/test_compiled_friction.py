@@ -21,7 +21,7 @@ import pytest
 import runtime
 from runtime import settings
 from runtime.io.scene_file import load_scene
-from runtime.step import compiled_friction, stepper
+from runtime.step import compiled_friction, friction_events, stepper
 from tests.runtime.test_friction import BLOCK, _pile, incline, rolling_in_a_bowl
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -49,8 +49,15 @@ class _Count:
     """Frames the compiled path built, and trials it called quiet."""
 
     def __init__(self, monkeypatch):
-        self.frames = self.declined = self.quiet = 0
+        self.frames = self.declined = self.quiet = self.searched = 0
         frame, quiet = compiled_friction.frame, stepper.Stepper._friction_quiet
+        search = friction_events.FrictionEvents._compiled_args
+
+        def counted_search(*args):
+            self.searched += 1
+            return search(*args)
+
+        monkeypatch.setattr(friction_events.FrictionEvents, "_compiled_args", counted_search)
 
         def counted_frame(*args):
             done = frame(*args)
@@ -71,7 +78,8 @@ class _Count:
 def test_the_compiled_path_runs_a_scene_with_friction_as_the_general_path(name, monkeypatch):
     """Poses and velocities at every step to 1e-12 (m, rad, m/s, rad/s), the same located
     impacts and transitions; and every frame with contacts was built compiled, with quiet trials
-    taken without the event search."""
+    taken without the event search, and a search for a transition (->) asked the compiled
+    friction state."""
     make, duration, dt = SCENES[name]
     count = _Count(monkeypatch)
     fast = runtime.simulate(make(), duration, dt)
@@ -79,6 +87,7 @@ def test_the_compiled_path_runs_a_scene_with_friction_as_the_general_path(name, 
     general = runtime.simulate(make(), duration, dt)
     assert count.frames > 0 and count.declined == 0
     assert count.quiet > 0
+    assert count.searched > 0 or "->" not in name
     assert np.allclose(fast.impact_times, general.impact_times, rtol=0.0, atol=1e-12)
     assert np.max(np.abs(fast.poses - general.poses)) < 1e-12
     assert np.max(np.abs(fast.velocities - general.velocities)) < 1e-12

@@ -40,6 +40,14 @@ from runtime.step.world import _far_angle, _kinetic, _lifted, _momentum
 
 
 @njit
+def _no_contacts():
+    """:func:`stretch_contacts`' answer where the finder's Python must decide (m = -1)."""
+    return (-1, np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
+            np.zeros((0, 7)), np.zeros((0, 4), np.int64), np.zeros((0, 2)), np.zeros((0, 2)),
+            np.zeros(0), np.zeros(0, np.int64))  # fmt: skip
+
+
+@njit(inline="always")  # (no call, no reference counting per step)
 def stretch_contacts(q, v, hi, finder, radii, moving, gravity, everyone, margin):
     """Stage 1 of a coasted step: the contacts that can close within hi
     (runtime.collide.finder.find), ``margin`` written. Returns (m, case, body1, body2,
@@ -47,11 +55,8 @@ def stretch_contacts(q, v, hi, finder, radii, moving, gravity, everyone, margin)
     decide (a margin out of range, candidate buffers too small, a gap not evaluated)."""
     tol, groups, apart, rows, start, body, owner, compound, cand, inputs, nkeys, width = finder
     _margins(v, hi, radii, moving, gravity, margin)
-    none = (-1, np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
-            np.zeros((0, 7)), np.zeros((0, 4), np.int64), np.zeros((0, 2)), np.zeros((0, 2)),
-            np.zeros(0), np.zeros(0, np.int64))  # fmt: skip
     if _first_bad_margin(margin) >= 0:
-        return none
+        return _no_contacts()
     if compound:
         p, widen, allow = q[owner], margin[owner], everyone[owner]
     else:
@@ -59,11 +64,11 @@ def stretch_contacts(q, v, hi, finder, radii, moving, gravity, everyone, margin)
     count = find_candidates(p, tol, widen, allow, groups, apart, rows, start, body, owner,
                             compound, cand, inputs)  # fmt: skip
     if count < 0 or count > cand.shape[0]:
-        return none
+        return _no_contacts()
     b1, b2, geometry_c, members, case_start = inputs
     gap = np.empty(count)
     if candidate_gaps(p, b1, b2, geometry_c, members, case_start, gap) != count:
-        return none
+        return _no_contacts()
     out = (np.empty(count, np.int64), np.empty(count, np.int64), np.empty(count, np.int64),
            np.empty((count, 7)), np.empty((count, 4), np.int64), np.empty((count, 2)),
            np.empty((count, 2)))  # fmt: skip
@@ -76,7 +81,7 @@ def stretch_contacts(q, v, hi, finder, radii, moving, gravity, everyone, margin)
             _packed(one, two, feature, nkeys, width))  # fmt: skip
 
 
-@njit
+@njit(inline="always")  # (no call, no reference counting per step)
 def guarded_energy(q, q1, v1, frame_gap, one, two, radii, guards, wrap):
     """The energy after a coasted step from q to (q1, v1), or NaN where one of the World's
     guards (runtime.step.world: penetration, a centre through an edge or a body, non-finite
@@ -100,6 +105,33 @@ def guarded_energy(q, q1, v1, frame_gap, one, two, radii, guards, wrap):
 
 
 @njit
+def stretch_records(steps, n):
+    """A stretch's per-step records of the state before each step: (clock, poses, velocities,
+    energies, momenta, min gaps, impact losses), as :class:`Coaster` reads them."""
+    return (np.empty(steps), np.empty((steps, n, 3)), np.empty((steps, n, 3)), np.empty(steps),
+            np.empty((steps, 2)), np.empty(steps), np.empty(steps))  # fmt: skip
+
+
+@njit(inline="always")  # (no call, no reference counting per step)
+def write_record(records, i, t, q, v, energy, e_mass, min_gap, loss):
+    """Record i of :func:`stretch_records`: the state (q, v) at time t before the step."""
+    clock, poses, velocities, energies, momenta, min_gaps, losses = records
+    clock[i], energies[i], min_gaps[i], losses[i] = t, energy, min_gap, loss
+    poses[i], velocities[i] = q, v
+    momenta[i] = _momentum(e_mass, v)
+
+
+@njit
+def contact_records(steps, m):
+    """(the contact set's kind arrays, empty; per-step gaps, points, normals, forces and
+    resting flags of m contacts)."""
+    kind = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
+            np.zeros((0, 7)), np.zeros((0, 4), np.int64))  # fmt: skip
+    return kind, (np.empty((steps, m)), np.empty((steps, m, 2)), np.empty((steps, m, 2)),
+                  np.empty((steps, m)), np.empty((steps, m), np.bool_))  # fmt: skip
+
+
+@njit
 def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # noqa: C901
     """Steps to each of ``times`` from (q, v) at time t, while each is a quiet step (see the
     module docstring). ``finder``, ``memory``, ``bodies``, ``numbers``, ``guards``: the tables of
@@ -115,25 +147,14 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
      wrap) = numbers  # fmt: skip
     e_mass = guards[8]
     n, steps = q.shape[0], times.size
-    clock, energies, min_gaps, losses = (
-        np.empty(steps),
-        np.empty(steps),
-        np.empty(steps),
-        np.empty(steps),
-    )
-    poses, velocities = np.empty((steps, n, 3)), np.empty((steps, n, 3))
-    momenta = np.empty((steps, 2))
+    records = stretch_records(steps, n)
     everyone = np.ones(n, np.bool_)
     keys = np.zeros(0, np.int64)
     held = np.zeros(0, np.bool_)
     before = held
     guess_memory = held
     touched = held
-    kind = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
-            np.zeros((0, 7)), np.zeros((0, 4), np.int64))  # fmt: skip
-    gaps, forces_out = np.empty((0, 0)), np.empty((0, 0))
-    points, normals = np.empty((0, 0, 2)), np.empty((0, 0, 2))
-    resting_out = np.empty((0, 0), np.bool_)
+    kind, (gaps, points, normals, forces_out, resting_out) = contact_records(0, 0)
     evaluations = 0
     done = 0
     for i in range(steps):
@@ -150,9 +171,7 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
             guess_memory = _looked_up(keys, guess_keys, guess_clamped)
             touched = np.zeros(m, np.bool_)
             kind = (case, one, two, geometry, feature)
-            gaps, forces_out = np.empty((steps, m)), np.empty((steps, m))
-            points, normals = np.empty((steps, m, 2)), np.empty((steps, m, 2))
-            resting_out = np.empty((steps, m), np.bool_)
+            gaps, points, normals, forces_out, resting_out = contact_records(steps, m)[1]
         elif m != keys.size or not np.all(found == keys):
             break
         # 2-4. the frame: classify, impacts, settle, resting forces (runtime.step.stepper; with
@@ -200,9 +219,7 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
         if not np.isfinite(e1):
             break
         # the record of the state before the step, and the step taken
-        clock[i], energies[i], min_gaps[i], losses[i] = t, energy, min_gap, loss
-        poses[i], velocities[i] = q, v
-        momenta[i] = _momentum(e_mass, v)
+        write_record(records, i, t, q, v, energy, e_mass, min_gap, loss)
         gaps[i], points[i], normals[i], forces_out[i] = gap, point, normal, forces
         for k in range(m):
             resting_out[i, k] = modes[k] == RESTING
@@ -214,9 +231,8 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
         q, v, energy, t = q1, v1, e1, t + hi
         evaluations += 3 if method == 2 else method
         done += 1
-    return (done, t, q, v, energy, evaluations,
-            (clock, poses, velocities, energies, momenta, min_gaps, losses),
-            kind, (gaps, points, normals, forces_out, resting_out),
+    return (done, t, q, v, energy, evaluations, records, kind,
+            (gaps, points, normals, forces_out, resting_out),
             (keys, held, before, guess_memory, touched))  # fmt: skip
 
 

@@ -19,10 +19,15 @@ from runtime import settings
 from runtime.collide.contact_keys import _looked_up
 from runtime.compiled import njit
 from runtime.step.classify import LIFTING, RESTING, hold_gap
-from runtime.step.coast import guarded_energy, stretch_contacts
+from runtime.step.coast import (
+    contact_records,
+    guarded_energy,
+    stretch_contacts,
+    stretch_records,
+    write_record,
+)
 from runtime.step.compiled_friction import friction_quiet, settle_frame, step
 from runtime.step.quiet import is_quiet
-from runtime.step.world import _momentum
 
 _STICK, _DRIFT = settings.STICK_SPEED, settings.STICK_DRIFT
 
@@ -40,25 +45,15 @@ def coast_friction(times, t, q, v, energy, finder, memory, bodies, numbers, guar
      wrap) = numbers  # fmt: skip
     e_mass = guards[8]
     n, steps = q.shape[0], times.size
-    clock, energies, min_gaps, losses = (
-        np.empty(steps),
-        np.empty(steps),
-        np.empty(steps),
-        np.empty(steps),
-    )
-    poses, velocities = np.empty((steps, n, 3)), np.empty((steps, n, 3))
-    momenta = np.empty((steps, 2))
+    records = stretch_records(steps, n)
     everyone = np.ones(n, np.bool_)
     keys = np.zeros(0, np.int64)
     held = np.zeros(0, np.bool_)
     before, guess_memory, touched = held, held, held
     flag_memory = np.zeros(0, np.int8)
     mu = np.zeros(0)
-    kind = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64),
-            np.zeros((0, 7)), np.zeros((0, 4), np.int64))  # fmt: skip
-    gaps, forces_out, friction_out = np.empty((0, 0)), np.empty((0, 0)), np.empty((0, 0))
-    points, normals = np.empty((0, 0, 2)), np.empty((0, 0, 2))
-    resting_out = np.empty((0, 0), np.bool_)
+    kind, (gaps, points, normals, forces_out, resting_out) = contact_records(0, 0)
+    friction_out = np.empty((0, 0))
     evaluations = 0
     done = 0
     for i in range(steps):
@@ -78,10 +73,8 @@ def coast_friction(times, t, q, v, energy, finder, memory, bodies, numbers, guar
             touched = np.zeros(m, np.bool_)
             mu = np.sqrt(friction[one] * friction[two])  # runtime.solve.friction_rows
             kind = (case, one, two, geometry, feature)
-            gaps, forces_out = np.empty((steps, m)), np.empty((steps, m))
+            gaps, points, normals, forces_out, resting_out = contact_records(steps, m)[1]
             friction_out = np.empty((steps, m))
-            points, normals = np.empty((steps, m, 2)), np.empty((steps, m, 2))
-            resting_out = np.empty((steps, m), np.bool_)
         elif m != keys.size or not np.all(found == keys):
             break
         # 2-4. the frame with friction (runtime.step.stepper's settled_frame)
@@ -139,9 +132,7 @@ def coast_friction(times, t, q, v, energy, finder, memory, bodies, numbers, guar
         if not np.isfinite(e1):
             break
         # the record of the state before the step, and the step taken
-        clock[i], energies[i], min_gaps[i], losses[i] = t, energy, frame_gap.min(), loss
-        poses[i], velocities[i] = q, v
-        momenta[i] = _momentum(e_mass, v)
+        write_record(records, i, t, q, v, energy, e_mass, frame_gap.min(), loss)
         gaps[i], points[i], normals[i] = gap, point, normal
         forces_out[i], friction_out[i] = forces, tangential
         for k in range(m):
@@ -154,7 +145,6 @@ def coast_friction(times, t, q, v, energy, finder, memory, bodies, numbers, guar
         q, v, energy, t = q1, v1, e1, t + hi
         evaluations += 3 if method == 2 else method
         done += 1
-    return (done, t, q, v, energy, evaluations,
-            (clock, poses, velocities, energies, momenta, min_gaps, losses),
-            kind, (gaps, points, normals, forces_out, resting_out, friction_out),
+    return (done, t, q, v, energy, evaluations, records, kind,
+            (gaps, points, normals, forces_out, resting_out, friction_out),
             (keys, held, before, guess_memory, touched, flag_memory))  # fmt: skip

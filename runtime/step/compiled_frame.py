@@ -267,7 +267,7 @@ def _press(jac, body1, body2, inv_mass, fixed, modes, pressed, rate, limit, v, i
 UNCHANGED, MODES, PRESS = 0, 1, 2  # what a settle round changed
 
 
-@njit
+@njit(inline="always")  # (no call, no reference counting per step)
 def settle_round(jac, body1, body2, bias, acc, forces, rates, rate, tol, creep, separation,
                  modes, pressed):  # fmt: skip
     """One press/lift round (the policy of runtime.step.resting) on the resting forces and

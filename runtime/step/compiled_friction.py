@@ -1,15 +1,24 @@
-"""An integrator step with Coulomb friction, in one compiled call.
+"""A step of a scene with Coulomb friction in compiled calls: frame, trial, quiet check, events.
 
-Why: a trial step of a scene with friction solves each island's friction LCP at every stage
-(runtime.solve.friction), and from Python each solve costs ~100 us of calls around a few
-microseconds of compiled work (the rows, the warm-started basis of runtime.solve.
-friction_lcp); the trial step and every trial time of locating an event are such steps. This
-is the same computation as runtime.step.compiled_stages with the rhs of runtime.solve.friction
--- the rows of the generated kernels (normal and tangential), each island's LCP solved from
-the basis its contacts had last, with each contact's mode (stick, slide +-) as the frame
-decided it -- for problems whose every island has a frictional contact. It reports False
-otherwise (an island whose LCP needs the held fallback, a non-finite term), and the caller
-does the step the general way (which also names a Painleve configuration).
+Why: a scene with friction solves each island's friction LCP at its frame and at every
+integrator stage (runtime.solve.friction), and from Python each solve cost ~100 us of calls
+around a few microseconds of compiled work -- a rolling disc's step was 1.4 ms, 8 solves. These
+are the same computations as the general path's, in the same order, as runtime.step.
+compiled_frame, compiled_stages and quiet are for a frictionless scene:
+
+* :func:`settle_frame` -- rows (normal and tangential, from the generated kernels), classify,
+  impacts (with friction: :func:`frictional_impulses`, runtime.solve.friction_impulses' policy),
+  the resting forces with each contact's mode decided (:func:`friction_forces`, runtime.solve.
+  friction's), the press/lift rounds, the hold of sticking contacts (:func:`hold_sticking`,
+  runtime.step.friction_hold's); :func:`frame` builds the stepper's Frame from it;
+* :func:`step` -- the trial step, each stage's LCP solved from the bases its contacts had last,
+  with the modes the frame decided;
+* :func:`friction_quiet` -- whether a trial has no friction transition for the event search,
+  and :func:`friction_state`, what that search asks at an instant (v_t, a_t, slips).
+
+Each reports False where the general path must do it -- an island without a frictional
+contact, an LCP that needs the held fallback or has no solution (a Painleve configuration,
+which the general path names), an island above settings.DENSE_ISLAND, a non-finite term.
 """
 
 from __future__ import annotations

@@ -57,6 +57,18 @@ class FrictionProblem(ForceProblem):
         if self.basis is None:
             self.basis = np.zeros(len(self.keys), np.int8)
 
+    def compiled_args(self, mu: np.ndarray, fixed: np.ndarray) -> tuple:
+        """Its contacts as runtime.step.compiled_friction's step, friction_quiet and
+        friction_state take them: (case, body1, body2, geometry, static2, ends, offsets, mu,
+        slide, basis) -- ``mu`` each contact's coefficient, ``fixed`` the bodies'; the basis
+        flags themselves (the compiled solves update them, as :meth:`FrictionalForces.solve`)."""
+        c = self.contacts
+        return (
+            c.case, c.body1, c.body2, c.geometry, np.ascontiguousarray(fixed[c.body2]),
+            np.ascontiguousarray(np.column_stack([c.body1, c.body2])), self.offsets, mu,
+            self.slide.astype(float), self.basis,
+        )  # fmt: skip
+
     def subset(self, keep: np.ndarray) -> FrictionProblem:
         base = ForceProblem.subset(self, keep)
         index = np.flatnonzero(keep)

@@ -101,14 +101,9 @@ class FrictionEvents:
     def _compiled_args(self, sub: FrictionProblem) -> tuple:
         """The arguments of runtime.step.compiled_friction.friction_state for ``sub`` but the
         state and the outputs (its basis flags: updated by each solve, as the general path's)."""
-        c = sub.contacts
         f = self.forces
-        return (
-            c.case, c.body1, c.body2, c.geometry, np.ascontiguousarray(self.fixed[c.body2]),
-            np.ascontiguousarray(np.column_stack([c.body1, c.body2])), sub.offsets,
-            self.evaluator.mu(c), sub.slide.astype(float), sub.basis, f.inverse_mass,
-            self.fixed, f.free_acceleration,
-        )  # fmt: skip
+        contacts = sub.compiled_args(self.evaluator.mu(sub.contacts), self.fixed)
+        return (*contacts, f.inverse_mass, self.fixed, f.free_acceleration)
 
     def _slip_to_stick(self, sub: FrictionProblem, state, h: float) -> float | None:
         sliding = np.flatnonzero(sub.slide != 0)

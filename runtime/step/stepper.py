@@ -166,6 +166,7 @@ class Stepper:
         if self.compiled_friction:
             from runtime.step import compiled_friction, compiled_stages, quiet
 
+            self._friction_made = (None, None)  # (problem, its compiled arguments)
             self._friction_step = Bound(compiled_friction.step)
             self._friction_frame_call = Bound(compiled_friction.settle_frame)
             self._friction_frame = compiled_friction.frame
@@ -351,20 +352,20 @@ class Stepper:
         return self._compiled_trial(self._step, args)
 
     def _friction_args(self, problem):
-        """The arguments of problem's contacts for runtime.step.compiled_friction's step and
-        quiet check (case ... flags), or None where they cannot: an island without a
-        frictional contact, or modes not decided yet."""
+        """problem.compiled_args for runtime.step.compiled_friction's step and quiet check, or
+        None where they cannot take it: an island without a frictional contact, or modes not
+        decided yet. The trial and its quiet check ask for the same problem: made once."""
+        if self._friction_made[0] is problem:
+            return self._friction_made[1]
         c = problem.contacts
         if problem.slide is None or len(c) == 0:
             return None
         mu = self.evaluator.mu(c)
-        if not (np.add.reduceat(mu > 0, problem.offsets[:-1]) > 0).all():
-            return None
-        return (
-            c.case, c.body1, c.body2, c.geometry, np.ascontiguousarray(self.fixed[c.body2]),
-            np.ascontiguousarray(np.column_stack([c.body1, c.body2])), problem.offsets, mu,
-            problem.slide.astype(float), problem.basis,
-        )  # fmt: skip
+        args = None
+        if (np.add.reduceat(mu > 0, problem.offsets[:-1]) > 0).all():
+            args = problem.compiled_args(mu, self.fixed)
+        self._friction_made = (problem, args)
+        return args
 
     def _fast_friction(self, problem, q, v, a0):
         """t -> the compiled step with friction (runtime.step.compiled_friction), or None."""

@@ -14,7 +14,10 @@ sub-step) each frictional resting contact gets a mode, kept for the whole trial:
 * if no forces obey Coulomb's law with these modes (a Painleve configuration, e.g. in a pile of
   discs), the contacts sliding slower than the resting speed are made to stick (their slip is
   then removed by runtime.step.friction_hold's impulse, as an approach slower than the resting
-  speed is made plastic); if that does not help either, the named error stands.
+  speed is made plastic); if that does not help either, the named error stands;
+* where every contact of an island sticks and the forces found open or slip one of them, the
+  island is held instead if forces in the cones can hold it (runtime.solve.friction_lcp._moves:
+  the LCP with friction can have more than one solution).
 
 The transitions inside a step (stick -> slip when |f_t| reaches mu f_n, slip -> stick when v_t
 crosses 0) are located by runtime.step.friction_events and start a new frame there.
@@ -174,7 +177,7 @@ class FrictionalForces(ContactForces):
         )  # fmt: skip
         todo = np.flatnonzero(with_friction)
         while todo.size:
-            failed = solve_islands(todo, *args, slips)
+            failed = solve_islands(todo, *args, slips, True)
             if failed < 0:
                 break
             g = todo[failed]
@@ -185,9 +188,10 @@ class FrictionalForces(ContactForces):
                 forces[a:b], tangent[a:b], slack[a:b], a_t[a:b], rates[a:b], acc,
                 problem.basis[a:b],
             )  # fmt: skip
-            if not held:
+            if held:
+                island_slips(forces[a:b], slack[a:b], rates[a:b], slips[a:b])
+            elif solve_islands(todo[failed : failed + 1], *args, slips, False) >= 0:
                 raise painleve(rows.mu[a:b], slide[a:b])
-            island_slips(forces[a:b], slack[a:b], rates[a:b], slips[a:b])
             todo = todo[failed + 1 :]
         return FrictionSolution(acc, forces, rates, tangent, a_t, slips)
 

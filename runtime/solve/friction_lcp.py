@@ -42,6 +42,10 @@ contact's d'' and a_t at 0: a linear program for forces in the cones (|f_t| <= m
 dependent rows do not trouble (:func:`solve_held`). Its forces, checked on M and q, solve the
 friction LCP with lambda = 0. (The least-norm forces of that held system are not enough: in the
 12-disc pile a third of them left their cones.)
+
+The held solution is also tried first when Lemke's method (or a warm start) solves an island
+whose contacts all stick with forces that open or slip one of them (:func:`_moves`): with
+friction the LCP can have more than one solution, and where the island can be held, it is held.
 """
 
 from __future__ import annotations
@@ -54,6 +58,8 @@ from runtime.compiled import njit
 from runtime.solve.lcp_problem import ContactSolverError
 from runtime.solve.lemke import SOLVED, lemke_perturbed
 
+MOVES = -1  # solve_island's status: a solution that opens or slips a contact of an island
+# that sticks everywhere (solve_held is tried first)
 NORMAL, PLUS, MINUS, SLACK = 1, 2, 4, 8  # a contact's basis flags: f_n, f+, f-, lambda basic
 _TOL = settings.LCP_SHARP
 _SINGULAR = settings.LEMKE_BASIS_PIVOT
@@ -222,14 +228,16 @@ def island_lcp(
 @njit
 def solve_island(
     jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc,
-    normal, tangent, slack, tangent_acc, rates, acc, flags,
+    normal, tangent, slack, tangent_acc, rates, acc, flags, hold_first,
 ):  # fmt: skip
     """The forces of one island's K contacts (``ends`` (K, 2): body 1 and 2; ``bias`` the normal
     bias, stabilised if so; ``slide`` each contact's mode, 0 for a sticking or a frictionless
     one), written to ``normal``, ``tangent``, ``slack``, ``tangent_acc`` (a_t), ``rates`` (the
     free d'', b_n); ``acc`` (n, 3) gets the forces' accelerations added. ``flags`` (K, int8):
     each contact's basis flags, tried first (all 0: none known) and replaced by the new basis.
-    Returns SOLVED, or Lemke's status.
+    Returns SOLVED, or Lemke's status, or (``hold_first``) MOVES, nothing written, if every
+    contact sticks and the solution found opens or slips one (:func:`_moves`): the caller tries
+    the island held first (:func:`solve_held`).
     """
     M, q, stick = island_lcp(
         jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc, rates
@@ -247,9 +255,48 @@ def solve_island(
         status = lemke_perturbed(M, q, z, basic)
         if status != SOLVED:
             return status
+    if hold_first and _moves(M, q, z, slide, k, s):
+        return MOVES
     write_solution(z, basic, stick, jac, tangent_jac, ends, tangent_bias, mu, slide, inv_mass,
                    normal, tangent, slack, tangent_acc, acc, flags)  # fmt: skip
     return SOLVED
+
+
+@njit
+def _moves(M, q, z, slide, k, s):
+    """Whether the LCP solution z of an island whose contacts all stick (no slide) opens a
+    contact (d'' > 0) or lets one slip (lambda > 0), each above settings.SLIP_ONSET of the
+    island's scale (its largest |b_n|, at least 1, as :func:`island_slips`).
+
+    Why: with friction an island's LCP can have more than one solution. A packed pile of 40
+    discs at rest, which the forces of its frictionless pile hold in their cones, got from
+    Lemke's method one in which a disc spun up at 73 rad/s^2 and a third of the contacts opened;
+    its next stage, moving, had no solution. Where the island can be held (the forces of a
+    solution with every contact held lie in the cones), that solution is the one taken: a
+    body at rest that its contacts can hold stays at rest.
+
+    An island of one contact is left to Lemke's solution: the question arises only where
+    contacts share bodies, and asking it there cost a falling 20-disc pile with mu = 0.5 ~400
+    linear programs (0.4 s of its 2.5 s), none of which held."""
+    if k < 2:
+        return False
+    for i in range(slide.size):
+        if slide[i] != 0.0:
+            return False
+    tol = 1.0
+    for i in range(k):
+        tol = max(tol, abs(q[i]))
+    tol *= _ONSET
+    for i in range(s):
+        if z[k + 2 * s + i] > tol:
+            return True
+    for i in range(k):
+        w = q[i]
+        for j in range(q.size):
+            w += M[i, j] * z[j]
+        if w > tol:
+            return True
+    return False
 
 
 @njit
@@ -279,18 +326,19 @@ def write_solution(z, basic, stick, jac, tangent_jac, ends, tangent_bias, mu, sl
 @njit
 def solve_islands(
     groups, offsets, jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed,
-    free_acc, normal, tangent, slack, tangent_acc, rates, acc, flags, slips,
+    free_acc, normal, tangent, slack, tangent_acc, rates, acc, flags, slips, hold_first,
 ):  # fmt: skip
     """:func:`solve_island` for each island ``groups[i]`` (contacts offsets[g]:offsets[g + 1] of
     the arrays, which it writes as it does), and each one's ``slips`` (:func:`island_slips`), in
     one compiled loop: a scene of many small frictional islands paid ~20 us of Python for each.
-    Returns the index into ``groups`` of the first island not solved, -1 if all were."""
+    Returns the index into ``groups`` of the first island not solved (or, ``hold_first``,
+    whose solution moves it: :func:`_moves`), -1 if all were."""
     for i in range(groups.size):
         a, b = offsets[groups[i]], offsets[groups[i] + 1]
         status = solve_island(
             jac[a:b], tangent_jac[a:b], ends[a:b], bias[a:b], tangent_bias[a:b], mu[a:b],
             slide[a:b], inv_mass, fixed, free_acc, normal[a:b], tangent[a:b], slack[a:b],
-            tangent_acc[a:b], rates[a:b], acc, flags[a:b],
+            tangent_acc[a:b], rates[a:b], acc, flags[a:b], hold_first,
         )  # fmt: skip
         if status != SOLVED:
             return i

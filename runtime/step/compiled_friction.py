@@ -72,7 +72,7 @@ def accelerations(
         return False
     failed = solve_islands(
         islands, offsets, jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass,
-        fixed, free_acc, normal, tangent, slack, a_t, rates, acc, flags, slips,
+        fixed, free_acc, normal, tangent, slack, a_t, rates, acc, flags, slips, True,
     )  # fmt: skip
     return failed < 0
 
@@ -224,7 +224,7 @@ def friction_forces(rows, tangent, mu, stick_speed, inv_mass, fixed, free_acc, m
         acc[:, :] = free_acc
         if solve_islands(islands, offsets, sub_jac, sub_tangent, ends, sub_bias, sub_tangent_bias,
                          sub_mu, sub_slide, inv_mass, fixed, free_acc, normal, tangential, slack,
-                         a_t, sub_rates, acc, sub_flags, slips) >= 0:  # fmt: skip
+                         a_t, sub_rates, acc, sub_flags, slips, True) >= 0:  # fmt: skip
             return False
         if not np.any(slips):
             break

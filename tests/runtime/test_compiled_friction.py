@@ -21,6 +21,7 @@ import pytest
 import runtime
 from runtime import settings
 from runtime.io.scene_file import load_scene
+from runtime.solve import friction
 from runtime.step import compiled_friction, friction_events, stepper
 from tests.runtime.test_friction import BLOCK, _pile, incline, rolling_in_a_bowl
 
@@ -46,12 +47,20 @@ SCENES = {
 
 
 class _Count:
-    """Frames the compiled path built, and trials it called quiet."""
+    """Frames the compiled path built, trials it called quiet, and islands the general path
+    asked to hold (runtime.solve.friction_lcp.solve_held, which only it can call)."""
 
     def __init__(self, monkeypatch):
-        self.frames = self.declined = self.quiet = self.searched = 0
+        self.frames = self.declined = self.quiet = self.searched = self.held = 0
         frame, quiet = compiled_friction.frame, stepper.Stepper._friction_quiet
         search = friction_events.FrictionEvents._compiled_args
+        hold = friction.solve_held
+
+        def counted_hold(*args):
+            self.held += 1
+            return hold(*args)
+
+        monkeypatch.setattr(friction, "solve_held", counted_hold)
 
         def counted_search(*args):
             self.searched += 1
@@ -77,15 +86,17 @@ class _Count:
 @pytest.mark.parametrize("name", SCENES)
 def test_the_compiled_path_runs_a_scene_with_friction_as_the_general_path(name, monkeypatch):
     """Poses and velocities at every step to 1e-12 (m, rad, m/s, rad/s), the same located
-    impacts and transitions; and every frame with contacts was built compiled, with quiet trials
-    taken without the event search, and a search for a transition (->) asked the compiled
-    friction state."""
+    impacts and transitions; and every frame with contacts was built compiled (but those where
+    an island sticking everywhere starts to move: the general path asks whether it can be held,
+    runtime.solve.friction_lcp._moves), with quiet trials taken without the event search, and a
+    search for a transition (->) asked the compiled friction state."""
     make, duration, dt = SCENES[name]
     count = _Count(monkeypatch)
     fast = runtime.simulate(make(), duration, dt)
+    held = count.held
     monkeypatch.setattr(settings, "COMPILED", False)
     general = runtime.simulate(make(), duration, dt)
-    assert count.frames > 0 and count.declined == 0
+    assert count.frames > 0 and count.declined <= held
     assert count.quiet > 0
     assert count.searched > 0 or "->" not in name
     assert np.allclose(fast.impact_times, general.impact_times, rtol=0.0, atol=1e-12)

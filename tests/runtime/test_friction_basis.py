@@ -117,10 +117,13 @@ def test_a_sticking_pile_gets_lemkes_forces_from_its_remembered_bases():
     assert np.all(np.abs(again.accelerations[~stepper.fixed]) < 1e-9)  # it sticks: at rest
 
 
-@pytest.mark.parametrize("discs", [12, 20])
+@pytest.mark.parametrize("discs", [12, 20, 40])
 def test_a_frictional_pile_keeps_coulombs_law_at_every_step(discs, monkeypatch):
     """The packed 12-disc pile's first frame ends Lemke's method on a ray: it is solved held
-    (friction_lcp.solve_held, counted here), the 20-disc pile's by Lemke's method and bases."""
+    (friction_lcp.solve_held, counted here), the 20-disc pile's by Lemke's method and bases.
+    The 40-disc pile's first frame gets from Lemke's method a solution that spins a disc up at
+    73 rad/s^2 and opens a third of the contacts, after which its next stage had no solution:
+    the held solution is preferred (friction_lcp._moves), and it stays at rest."""
     held, original = [], friction.solve_held
 
     def counted(*args):
@@ -133,5 +136,5 @@ def test_a_frictional_pile_keeps_coulombs_law_at_every_step(discs, monkeypatch):
         assert np.all(f_n >= 0.0)
         assert np.all(np.abs(f_t) <= 0.5 * f_n * (1 + 1e-9) + 1e-12)
     assert run.max_penetration < 1e-9
-    assert (True in held) == (discs == 12)
+    assert (True in held) == (discs != 20)
     assert np.all(np.abs(run.velocities[-1]) < 1e-6)  # it stays at rest

@@ -178,6 +178,11 @@ SLIP_ONSET = 1e-9  # relative to the problem's scale (largest |b|, or g): a stic
 IMPACT_ENERGY_SLACK = 1e-12  # relative to the kinetic energy before: a frictional impact whose
 # restitution phase leaves more than this (rounding is ~1e-15) is redone plastic
 # (runtime.solve.friction_impulses: Poisson's restitution with friction can add energy)
+CHATTER = 50  # friction transitions located within one step (per island) after which the rest
+# of the step lets every slip slower than the resting speed stick (runtime.step.stepper): coupled
+# contacts of a pile with mu = 1 stopped and restarted in turn, ~1e-9 s apart, slips of 1e-7 to
+# 1e-5 m/s against tangential accelerations of 10-400 m/s^2, until MAX_EVENTS; the slip this
+# removes is at most the resting speed, as a plastic impact's approach is
 SLIP_TIME = 1e-9  # relative to the step: how closely a stick -> slip transition is bisected in
 # time (a predicate, not a smooth function: runtime.step.friction_events); the state differs
 # from the exact one's by ~ (this x dt)^2 x the change of acceleration, far below the step's error

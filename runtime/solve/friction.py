@@ -14,7 +14,10 @@ sub-step) each frictional resting contact gets a mode, kept for the whole trial:
 * if no forces obey Coulomb's law with these modes (a Painleve configuration, e.g. in a pile of
   discs), the contacts sliding slower than the resting speed are made to stick (their slip is
   then removed by runtime.step.friction_hold's impulse, as an approach slower than the resting
-  speed is made plastic); if that does not help either, the named error stands;
+  speed is made plastic); if that does not help either, the island's sliding contacts jam:
+  they are made to stick, their slip removed by the same impulse (the tangential impact that
+  resolves Painleve's paradox: a falling 30-disc pile with mu = 1 met one); if that does not
+  help either (no contact slides), the named error stands;
 * where every contact of an island sticks and the forces found open or slip one of them, the
   island is held instead if forces in the cones can hold it (runtime.solve.friction_lcp._moves:
   the LCP with friction can have more than one solution).
@@ -126,18 +129,25 @@ class FrictionalForces(ContactForces):
         v_t = rows.tangent_velocity
         slide = np.where((rows.mu > 0) & (np.abs(v_t) > self.stick_speed), np.sign(v_t), 0.0)
         slow = (slide != 0) & (np.abs(v_t) <= settings.RESTING_SPEED)
-        for _ in range(len(slide) + 1):
+        jammed = np.zeros_like(slow)
+        for _ in range(2 * len(slide) + 1):
             try:
                 solution = self._solve(problem, rows, slide)
-            except FrictionInconsistent:
-                if not slow.any():
+            except FrictionInconsistent as error:
+                if slow.any():
+                    slide, slow = np.where(slow, 0.0, slide), np.zeros_like(slow)
+                    continue
+                sliding = [r for r in error.rows if slide[r] != 0]
+                if not sliding:
                     raise
-                slide, slow = np.where(slow, 0.0, slide), np.zeros_like(slow)
+                slide = slide.copy()
+                slide[sliding], jammed[sliding] = 0.0, True
                 continue
-            if not solution.slips.any():
+            slips = solution.slips & ~jammed
+            if not slips.any():
                 break
             slide = slide.copy()
-            slide[solution.slips] = np.sign(solution.tangent_accelerations[solution.slips])
+            slide[slips] = np.sign(solution.tangent_accelerations[slips])
         return slide
 
     def _solve(self, problem, rows: FrictionRows, slide: np.ndarray) -> FrictionSolution:
@@ -191,7 +201,7 @@ class FrictionalForces(ContactForces):
             if held:
                 island_slips(forces[a:b], slack[a:b], rates[a:b], slips[a:b])
             elif solve_islands(todo[failed : failed + 1], *args, slips, False) >= 0:
-                raise painleve(rows.mu[a:b], slide[a:b])
+                raise painleve(rows.mu[a:b], slide[a:b], a)
             todo = todo[failed + 1 :]
         return FrictionSolution(acc, forces, rates, tangent, a_t, slips)
 

@@ -391,12 +391,13 @@ def solve_held(
     return True
 
 
-def painleve(mu: np.ndarray, slide: np.ndarray) -> FrictionInconsistent:
-    """The error of an island whose friction LCP has no solution found."""
+def painleve(mu: np.ndarray, slide: np.ndarray, first: int = 0) -> FrictionInconsistent:
+    """The error of an island whose friction LCP has no solution found; its rows: the island's
+    sliding contacts (all of them if none slides), numbered from ``first``."""
     sliding = np.flatnonzero(slide != 0)
     return FrictionInconsistent(
         f"no contact forces obey Coulomb friction for {mu.size} contact(s) ({sliding.size} "
         f"sliding, mu up to {float(np.max(mu, initial=0.0)):.3g}): a Painleve "
         "configuration (Lemke's method ended on a ray)",
-        sliding.tolist() or list(range(mu.size)),
+        (sliding if sliding.size else np.arange(mu.size)) + first,
     )

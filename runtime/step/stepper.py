@@ -32,7 +32,7 @@ is done again with every body in one island (:class:`_Merge`), which is always c
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import partial
 
 import numpy as np
@@ -420,7 +420,7 @@ class Stepper:
         """The bodies ``active`` (a bool mask, None: all) advanced by h from (q, v), each island
         on its own when ``split``. ``reach``: (poses, margins) that this island's bodies must
         stay within (else :class:`_Merge`); ``t0``: time of q from the step's start."""
-        elapsed, events = 0.0, 0
+        elapsed, events, transitions = 0.0, 0, 0
         while True:
             # an impact located on the step's end can leave elapsed past h by rounding: the
             # rest of the step is then empty, as when it ends there exactly (not negative)
@@ -451,8 +451,12 @@ class Stepper:
             firsts = self.events.first(frame, q, end, remaining, labels, trajectory)
             if self.friction is not None:  # stick <-> slip, located like impacts
                 found = self.friction.events.first(resting.problem, remaining, labels, trajectory)
+                transitions += any(t < firsts.get(g, np.inf) for g, t in found.items())
                 for g, t in found.items():
                     firsts[g] = min(firsts.get(g, t), t)
+                if transitions == settings.CHATTER:  # slow slips stick from the next frame on
+                    limits = replace(limits, stick_speed=max(limits.stick_speed,
+                                                             limits.resting_speed))  # fmt: skip
             if not firsts:
                 return end
             events += 1

@@ -1,0 +1,42 @@
+"""Piles of discs with mu = 1 that the friction modes alone could not step (runtime.solve.friction
+and runtime.step.stepper): a jam (no forces obey Coulomb's law with the slides as they are) and a
+chatter (coupled slips stopping and restarting ~1e-9 s apart)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import runtime
+from bench.scenes import falling_pile
+from bench.steps import pile_scene
+
+
+def _with_friction(scene, mu):
+    for body in scene.bodies:
+        body.friction = mu
+    return scene
+
+
+def test_a_jammed_island_sticks_and_the_pile_goes_on():
+    """The falling 30-disc pile with mu = 1 stopped at t = 0.219 s: the island's LCP with its two
+    sliding contacts has no solution (a mixed-integer search over its 22 unknowns found none).
+    Its sliding contacts now stick (their slip removed by the hold impulse), and the run goes on
+    with Coulomb's law at every record and no overlap."""
+    run = runtime.simulate(_with_friction(falling_pile(30), 1.0), duration=0.3, dt=1e-3)
+    assert run.t[-1] >= 0.3 - 1e-12
+    assert run.max_penetration < 1e-9
+    for f_n, f_t in zip(run.contact_forces, run.friction_forces, strict=True):
+        assert np.all(f_n >= 0.0)
+        assert np.all(np.abs(f_t) <= f_n * (1 + 1e-9) + 1e-12)
+
+
+def test_chattering_slips_stick_instead_of_exhausting_the_events():
+    """Rows of 20 discs dropped onto each other with mu = 1: at t = 0.062 s coupled contacts
+    stopped and restarted in turn until more than settings.MAX_EVENTS transitions in one step.
+    After settings.CHATTER of them the slips slower than the resting speed stick, and the step
+    ends."""
+    world = runtime.World(_with_friction(pile_scene(20, drop=0.01), 1.0))
+    for _ in range(63):
+        world.step(1e-3)
+    assert world.t >= 0.063 - 1e-12
+    assert np.all(np.isfinite(world.velocities))

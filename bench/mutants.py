@@ -33,6 +33,7 @@ ARCS_FIRST = "tests/runtime/test_arcs.py " + ORACLE  # the engine scenes must ca
 COMPILED = "tests/generated/test_compiled_kernels.py"
 SHAPES = "tests/runtime/test_shapes.py tests/runtime/test_arcs.py"
 STEPPING = "tests/runtime/test_arcs.py tests/runtime/test_physics.py"
+LIFTS = "tests/runtime/test_lift_events.py"
 INTEGRATORS = "tests/runtime/test_integrators.py " + STEPPING  # the general path's integrators
 DERIVATION = "derive/derivation.py"
 CC = "generated/circle_circle.py"
@@ -142,6 +143,11 @@ MUTANTS: list[Mutant] = [
     Mutant("friction:moving-solution-kept", "runtime/solve/friction_lcp.py", "if hold_first and _moves(", "if False and _moves(", FRICTION_BASIS, "an island that can be held takes Lemke's solution that opens or slips its contacts (the packed 40-disc pile)"),
     Mutant("friction:no-jam", "runtime/solve/friction.py", "                if not sliding:", "                if True:", "tests/runtime/test_friction_jams.py", "a jammed island's sliding contacts do not stick: the Painleve error stands"),
     Mutant("friction:chatter-unchecked", "runtime/step/stepper.py", "if transitions == settings.CHATTER:", "if False:", "tests/runtime/test_friction_jams.py", "chattering slips keep their stick speed until MAX_EVENTS"),
+    # runtime/step/lift_events.py: lift-offs located inside a step
+    Mutant("lifts:not-located", "runtime/step/stepper.py", "            self.lifts = LiftEvents(self)", "            self.lifts = None", LIFTS, "a pressing contact's lift-off is stepped across, not located (the disc over the cylinder's flight 1.8e-3 m off at dt = 0.05 s)"),
+    Mutant("lifts:quiet-blind", "runtime/step/stepper.py", "if not (self.compiled or self.compiled_friction) or lifting:", "if not (self.compiled or self.compiled_friction):", LIFTS, "World.step's quiet check takes a trial across a lift-off"),
+    Mutant("lifts:coast-blind", "runtime/step/coast.py", "if np.any(pressing & ~staged) and lifted(", "if False and lifted(", LIFTS, "a coasted stretch steps across a lift-off"),
+    Mutant("lifts:pressed-side", "runtime/step/lift_events.py", "    return hi\n", "    return lo\n", LIFTS, "a lift-off located on the side where the contact still presses"),
     # runtime/step/compiled_friction.py: friction on the compiled path
     Mutant("compiled-friction:quiet-ignores-slide", COMPILED_FRICTION, "if slide[k] != 0.0 and not slide[k] * v_t[k] > 0.0:", "if False:", COMPILED_FRICTION_TESTS, "a trial whose sliding contact's slip crossed 0 (slip -> stick) called quiet: the transition not located"),
     Mutant("compiled-friction:no-restitution-phase", COMPILED_FRICTION, "if phase == 1 and not np.any(e_w > 0.0):", "if phase == 1:", COMPILED_FRICTION_TESTS, "impacts with friction lose their restitution phase (plastic whatever e)"),

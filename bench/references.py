@@ -22,7 +22,7 @@ The references are built from the scene files (radii, initial state, gravity rea
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -50,6 +50,8 @@ class Trajectory:
     force: np.ndarray  # (K,)
     penetration: float
     wall_time: float
+    # instants the engine located where a pressing contact's force reached 0 (ours: Run.lift_times)
+    lift_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 @dataclass(frozen=True)
@@ -382,7 +384,13 @@ class CylinderReference(Reference):
         the step at which the engine drops the contact does not matter. The zero is kept inside
         the bracket [last sample with force, first sample without], which is all a force that
         comes and goes (pymunk's) can tell.
+
+        An engine that locates the instant itself (ours: runtime.step.lift_events) is measured
+        there instead: the disc's centre at that instant, from the first record after it taken
+        back along its free flight (a parabola under gravity, as the reference's).
         """
+        if traj.lift_times.size:
+            return self._angle_at_lift(traj, float(traj.lift_times[0]))
         rel = traj.pose[:, :2] - self.centre
         phi = np.arctan2(rel[:, 0], rel[:, 1])
         touching = np.flatnonzero(traj.force > 0.0)
@@ -404,6 +412,17 @@ class CylinderReference(Reference):
             return float(phi[i])
         zero = roots[np.argmin(np.abs(roots - phi[i]))]  # the zero next to the last sample
         return float(np.clip(zero, lo, hi))
+
+    def _angle_at_lift(self, traj: Trajectory, lift: float) -> float:
+        """The angle of the disc's centre at ``lift``, from the first record after it."""
+        k = int(np.searchsorted(traj.t, lift, side="right"))
+        if k >= len(traj.t):
+            return math.nan
+        back = traj.t[k] - lift
+        centre = traj.pose[k, :2] - back * traj.velocity[k, :2]
+        centre[1] -= 0.5 * self.g * back**2  # p(t) = p_k - v_k back + g back^2 / 2, g = -|g| y
+        rel = centre - self.centre
+        return math.atan2(rel[0], rel[1])
 
     def errors(self, traj: Trajectory) -> dict[str, float]:
         err = np.linalg.norm(traj.pose[:, :2] - self.position(traj.t), axis=1)

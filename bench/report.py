@@ -161,6 +161,7 @@ def our_trajectory(scene, duration: float, method: str, dt: float, rtol: float) 
         force=np.array([float(np.sum(f)) for f in run.contact_forces]),
         penetration=run.max_penetration,
         wall_time=run.wall_time,
+        lift_times=np.asarray(run.lift_times),
     )
 
 

@@ -68,8 +68,13 @@ SCENES = (
             f"this has a resolution of its own: with our adaptive runs' {ADAPTIVE_DT:g} s step it "
             "gives the same few 1e-6 rad for every rtol, which is more likely the resolution than "
             "the integrator. A peer's contact comes and goes (an impulse on some steps only), so its "
-            "leaving angle is in effect its last step with an impulse. Position error: against the "
-            "circle-then-parabola reference trajectory."
+            "leaving angle is in effect its last step with an impulse. Our runs that locate the "
+            "instant the force reaches 0 themselves (a lift-off, runtime/step/lift_events.py: "
+            "where d'' dt of the lifting contact exceeds the resting speed, so not at the smallest "
+            "steps nor with Euler, whose one stage never sees the force vanish) are measured "
+            "there: the disc's centre at that instant, from the first record after it taken back "
+            "along its free flight. Position error: against the circle-then-parabola reference "
+            "trajectory."
         ),
     ),
     SceneSpec(

@@ -187,6 +187,10 @@ SLIP_TIME = 1e-9  # relative to the step: how closely a stick -> slip transition
 # time (a predicate, not a smooth function: runtime.step.friction_events); the state differs
 # from the exact one's by ~ (this x dt)^2 x the change of acceleration, far below the step's error
 
+LIFT_TIME = 1e-9  # relative to the step: how closely a lift-off (a pressing contact's force
+# falling to 0 as it moves apart) is located in time (runtime.step.lift_events); as SLIP_TIME, the
+# restart state then differs from the exact one's by ~ (this x dt)^2 x the change of acceleration
+
 # -- contacts: touching, resting, impacts ------------------------------------------------------
 
 TOUCH = 1e-9  # m, at most the scene's contact tolerance: the largest gap that counts as

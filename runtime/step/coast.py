@@ -33,7 +33,7 @@ from runtime.compiled import Bound, njit
 from runtime.solve.kernel_set import candidate_gaps
 from runtime.step.classify import LIFTING, RESTING, hold_gap
 from runtime.step.compiled_frame import settle_frame
-from runtime.step.compiled_stages import METHOD_ID, step
+from runtime.step.compiled_stages import METHOD_ID, lifted, step
 from runtime.step.guards import _crossing, _passed_through, deepest_relative
 from runtime.step.quiet import is_quiet
 from runtime.step.world import _far_angle, _kinetic, _lifted, _momentum
@@ -204,14 +204,23 @@ def coast(times, t, q, v, energy, finder, memory, bodies, numbers, guards):  # n
         rest = order[: counts[0]]
         # 5. the trial with the resting contacts' forces, each island its own
         q1, v1 = np.empty_like(q), np.empty_like(v)
-        if not step(method, q, start_v, hi, acc, case[rest], one[rest], two[rest],
-                    np.ascontiguousarray(geometry[rest]), static2[rest], offsets[: counts[1]],
-                    guess[rest], step_inv_mass, fixed, free_acc, lcp_tol, dense, q1, v1):  # fmt: skip
+        resting = (case[rest], one[rest], two[rest], np.ascontiguousarray(geometry[rest]),
+                   static2[rest], offsets[: counts[1]])  # fmt: skip
+        staged = guess[rest]  # (its clamped flags: updated by each stage's solve)
+        if not step(method, q, start_v, hi, acc, *resting, staged, step_inv_mass, fixed,
+                    free_acc, lcp_tol, dense, q1, v1):  # fmt: skip
             break
-        # 6. nothing for the event search to find
+        # 6. nothing for the event search to find, and no pressing contact lifting off
+        # (runtime.step.lift_events)
         if not is_quiet(q, q1, v1, margin, radii, half_width, switches, case, one, two,
                         geometry, static2, modes, frame_gap, rate, touch, creep, fast_pair,
                         fixed, depths, rows, body_start, feature, start_v, acc, hi):  # fmt: skip
+            break
+        pressing = forces[rest] > 0.0
+        if np.any(pressing & ~staged) and lifted(
+            q1, v1, *resting, staged, step_inv_mass, fixed, free_acc, lcp_tol, dense, pressing,
+            hi, resting_speed,
+        ):  # fmt: skip
             break
         # the World's guards (runtime.step.world), its energy and angle wrap
         min_gap = frame_gap.min() if m else np.inf

@@ -59,6 +59,56 @@ def accelerations(
 
 
 @njit
+def lift_state(
+    q, v, case, body1, body2, geometry, static2, offsets, guess, inv_mass, fixed, free_acc, tol,
+    limit, forces, ddot, diagonal,
+):  # fmt: skip
+    """The resting contacts' forces, d'' and A_kk (their own inverse effective mass) at (q, v),
+    written to ``forces``, ``ddot``, ``diagonal`` (runtime.step.lift_events); False where an
+    island needs the general path. ``guess``: as :func:`accelerations`', updated."""
+    m = case.size
+    rates, jac, bias = np.empty(m), np.empty((m, 6)), np.empty(m)
+    acc = np.empty_like(free_acc)
+    if not accelerations(
+        q, v, by_case(case), body1, body2, geometry, static2, offsets, guess, inv_mass, fixed,
+        free_acc, tol, limit, acc, forces, rates, jac, bias,
+    ):  # fmt: skip
+        return False
+    for k in range(m):
+        i, j = body1[k], body2[k]
+        rate, own = bias[k], 0.0
+        for c in range(3):
+            rate += jac[k, c] * acc[i, c] + jac[k, 3 + c] * acc[j, c]
+            own += jac[k, c] ** 2 * inv_mass[i, c] + jac[k, 3 + c] ** 2 * inv_mass[j, c]
+        ddot[k], diagonal[k] = rate, own
+    return True
+
+
+@njit
+def lifted(
+    q1, v1, case, body1, body2, geometry, static2, offsets, guess, inv_mass, fixed, free_acc,
+    tol, limit, pressing, h, speed,
+):  # fmt: skip
+    """Whether a contact pressing at the trial's start (``pressing``: its force there > 0)
+    carries no force at the trial's end (q1, v1) and moves apart there with d'' h > ``speed``
+    (runtime.step.lift_events); True where unsure (an island the compiled solve declines).
+    ``guess``: scratch, written."""
+    m = case.size
+    if m == 0 or not np.any(pressing):
+        return False
+    forces, ddot, diagonal = np.empty(m), np.empty(m), np.empty(m)
+    if not lift_state(
+        q1, v1, case, body1, body2, geometry, static2, offsets, guess, inv_mass, fixed,
+        free_acc, tol, limit, forces, ddot, diagonal,
+    ):  # fmt: skip
+        return True
+    for k in range(m):
+        if pressing[k] and forces[k] <= 0.0 and ddot[k] * h > speed:
+            return True
+    return False
+
+
+@njit
 def stage(q0, v0, dq, dv, h, q, v):
     """(q, v) = (q0 + h dq, v0 + h dv), in place: array expressions would make a temporary of
     every operation (with 10,000 copies, a quarter of the step went into making them)."""

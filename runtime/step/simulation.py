@@ -1,7 +1,7 @@
 """`simulate`: a scene run for a duration on a World, recorded step by step into a Run.
 
 The recorded grid is t = k dt, exactly (the last step shortened so the run ends at the duration);
-impacts located inside steps are listed in ``Run.impact_times``. Each record holds the state at
+impacts located inside steps are listed in ``Run.impact_times``, lift-offs in ``Run.lift_times``. Each record holds the state at
 its time and the contacts resting there (with lifting ones) and their forces, as solved at the
 start of the step that follows (the last record: at the final state).
 
@@ -55,7 +55,8 @@ class Run:
     t (K,), poses and velocities (K, n, 3), energy (K,) (mechanical: kinetic + gravitational),
     momentum (K, 2), min_gap (K,) (smallest gap among the contacts found at each record's time:
     < 0 is a penetration), impact_losses (K,) (kinetic energy taken out by impacts since the
-    record before; 0 at the first), impact_times (I,) (located impacts);
+    record before; 0 at the first), impact_times (I,) (located impacts), lift_times (L,)
+    (located lift-offs: where a pressing contact's force reached 0 and it moved apart);
     contacts[k] (runtime.collide.contact_set.Contacts) and contact_forces[k] (N): the resting
     contacts at record k and their forces (runtime.app.contact_table gives them as one table);
     friction_forces[k] (N): their friction forces f_t along t = n turned by +90 degrees, on body 1
@@ -77,6 +78,7 @@ class Run:
     min_gap: np.ndarray = field(default_factory=lambda: np.zeros(0))
     impact_losses: np.ndarray = field(default_factory=lambda: np.zeros(0))
     impact_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    lift_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     contacts: list[Contacts] = field(default_factory=list)
     contact_forces: list[np.ndarray] = field(default_factory=list)
     friction_forces: list[np.ndarray] = field(default_factory=list)
@@ -100,6 +102,7 @@ class Run:
             "min_gap": self.min_gap,
             "impact_losses": self.impact_losses,
             "impact_times": self.impact_times,
+            "lift_times": self.lift_times,
             "total_contact_force": np.array([float(np.sum(f)) for f in self.contact_forces]),
         }
         return out
@@ -176,6 +179,7 @@ class _Recorder:
             setattr(run, _RUN_NAMES.get(k, k),
                     np.concatenate(values) if values else np.zeros((0, *shape)))  # fmt: skip
         run.impact_times = np.asarray(world.impact_times, dtype=float)
+        run.lift_times = np.asarray(world.lift_times, dtype=float)
         run.rhs_evaluations = world.stepper.evaluations
         run.wall_time = wall
         return run

@@ -50,6 +50,7 @@ from runtime.step.collision import Collision
 from runtime.step.events import EventSearch
 from runtime.step.friction_stage import friction_stage
 from runtime.step.integrators import FIXED_STEP, Trajectory
+from runtime.step.lift_events import LiftEvents
 from runtime.step.pair_scan import IslandsMeet
 from runtime.step.resting import settle
 
@@ -85,8 +86,11 @@ class StepReport:
     tangent_forces: np.ndarray | None = None  # their friction forces (None: no friction stage)
     joint_forces: np.ndarray | None = None  # the joint rows' forces there
     impact_times: list[float] = field(default_factory=list)
+    lift_times: list[float] = field(default_factory=list)  # located lift-offs (lift_events)
     impact_loss: float = 0.0
-    quiet: bool = False  # one trial, quiet (runtime.step.quiet): nothing located in the step
+    # its last trial quiet (runtime.step.quiet) and nothing located in the step but lift-offs
+    # (after which the next steps can coast: runtime.step.coast)
+    quiet: bool = False
 
 
 class Stepper:
@@ -132,6 +136,11 @@ class Stepper:
         self.events = EventSearch(
             self.collision, self.evaluator, self.touch, self.radii, half, switches
         )
+        # lift-offs located in fixed steps (their kink makes a step across them first order);
+        # not yet with friction or links (their forces are solved with other rows)
+        self.lifts = None
+        if method in FIXED_STEP and self.friction is None and self.links is None:
+            self.lifts = LiftEvents(self)
         # the keys (runtime.collide.contact_keys) of the contacts resting in the last frame,
         # and at the end of the last step
         self.held = self.recent = key_set(np.zeros(0, np.int64))
@@ -155,6 +164,8 @@ class Stepper:
             self._frame_call = Bound(compiled_frame.settle_frame)
             self._method_id = compiled_stages.METHOD_ID[method]
             self._quiet_call = Bound(quiet.is_quiet)
+            self._lifted_call = Bound(compiled_stages.lifted)
+            self._lift_state_call = Bound(compiled_stages.lift_state)
         # a scene with friction: its trial steps in one compiled call each
         self.compiled_friction = (
             settings.COMPILED
@@ -441,8 +452,9 @@ class Stepper:
                 moved = sweep.displacement(reach[0], end[0], self.radii)
                 if np.any((moved > reach[1])[active]):
                     raise _Merge
-            if self._quiet(q, end, frame, resting, remaining):
-                report.quiet = events == 0 and active is None
+            lifting = self._lifting(resting, end, remaining)
+            if self._quiet(q, end, frame, resting, remaining, lifting):
+                report.quiet = events == len(report.lift_times) and active is None
                 return end
             labels = self._islands(frame, active)
             if sweep.outran(q, end[0], self.radii, frame.margin):
@@ -457,21 +469,27 @@ class Stepper:
                 if transitions == settings.CHATTER:  # slow slips stick from the next frame on
                     limits = replace(limits, stick_speed=max(limits.stick_speed,
                                                              limits.resting_speed))  # fmt: skip
+            lifts = {}  # pressing contacts that lift off, located likewise
+            if lifting:
+                lifts = self.lifts.first(resting, remaining, labels, trajectory)
+                for g, t in lifts.items():
+                    firsts[g] = min(firsts.get(g, t), t)
             if not firsts:
                 return end
             events += 1
             if events > settings.MAX_EVENTS:
                 raise RuntimeError(f"more than {settings.MAX_EVENTS} impacts within one step")
             if not split or np.unique(labels[labels >= 0]).size <= 1:  # one island: sub-step
-                tau = min(firsts.values())
-                report.impact_times.append(t0 + elapsed + tau)
-                q, v = trajectory(min(firsts, key=firsts.get)).at(tau)
+                island = min(firsts, key=firsts.get)
+                tau = firsts[island]
+                _listed(report, lifts, island, tau).append(t0 + elapsed + tau)
+                q, v = trajectory(island).at(tau)
                 elapsed += tau
                 continue
             new_q, new_v = end[0].copy(), end[1].copy()
             for island, tau in sorted(firsts.items(), key=lambda item: item[1]):
                 members = labels == island
-                report.impact_times.append(t0 + elapsed + tau)
+                _listed(report, lifts, island, tau).append(t0 + elapsed + tau)
                 q_i, v_i = trajectory(island).at(tau)
                 q_i, v_i = self._advance(
                     q_i, v_i, remaining - tau, limits, report, True, members,
@@ -480,12 +498,14 @@ class Stepper:
                 new_q[members], new_v[members] = q_i[members], v_i[members]
             return new_q, new_v
 
-    def _quiet(self, q, end, frame: Frame, resting: RestingSolution, h: float) -> bool:
+    def _quiet(
+        self, q, end, frame: Frame, resting: RestingSolution, h: float, lifting: bool = False
+    ) -> bool:
         """Whether the trial of length h from q (with the frame's velocities and the resting
         accelerations) to ``end`` has nothing for the event search to find (runtime.step.quiet;
-        with friction, no friction transition either): then it is the step, without the
-        search."""
-        if not (self.compiled or self.compiled_friction):
+        with friction, no friction transition either; ``lifting``: a contact may lift off):
+        then it is the step, without the search."""
+        if not (self.compiled or self.compiled_friction) or lifting:
             return False
         if self.compiled_friction and not self._friction_quiet(resting.problem, end):
             return False
@@ -498,6 +518,36 @@ class Stepper:
             rows.gap_velocity, self.touch, settings.CREEP * self.resting_speed, settings.FAST_PAIR,
             self.fixed, self.events.deepest, tables.rows, tables.body_start, c.feature,
             frame.velocities, a0, float(h),
+        )  # fmt: skip
+
+    def _lifting(self, resting: RestingSolution, end, h: float) -> bool:
+        """Whether a contact pressing at the trial's start may lift off by its ``end``: one
+        that the trial's last stage no longer held clamped (its forces' guess, updated by every
+        stage's solve), confirmed at the end by runtime.step.compiled_stages.lifted on the
+        compiled path (True where unsure: the event search's runtime.step.lift_events
+        decides)."""
+        problem = resting.problem
+        if self.lifts is None or len(problem.contacts) == 0:
+            return False
+        pressing = resting.forces[problem.order] > 0.0
+        if not (pressing & ~problem.guess).any():
+            return False
+        if not self.compiled:
+            return True
+        return self._lifted_call(
+            *end, *self.lift_state_args(problem), pressing, float(h), float(self.resting_speed)
+        )
+
+    def lift_state_args(self, problem: ForceProblem) -> tuple | None:
+        """The arguments of runtime.step.compiled_stages.lift_state for ``problem`` but the
+        state and the outputs (a copy of its guess); None off the compiled path."""
+        if not self.compiled:
+            return None
+        c, f = problem.contacts, self.forces
+        return (
+            c.case, c.body1, c.body2, c.geometry, np.ascontiguousarray(self.fixed[c.body2]),
+            problem.offsets, problem.guess.copy(), f.inverse_mass, self.fixed,
+            f.free_acceleration, settings.LCP_TOL, settings.DENSE_ISLAND,
         )  # fmt: skip
 
     def _islands(self, frame: Frame, active) -> np.ndarray:
@@ -584,6 +634,12 @@ class _IslandTrajectories:
                     problem.subset(keep), trial.q0, trial.v0, trial.h, trial.a0
                 )
         return self.made[island]
+
+
+def _listed(report: StepReport, lifts: dict[int, float], island: int, tau: float) -> list:
+    """The report's list for an event of ``island`` at ``tau``: its lift-offs where that is
+    the island's located lift-off, else its impacts (and friction transitions)."""
+    return report.lift_times if lifts.get(island) == tau else report.impact_times
 
 
 def _moving_body(contacts, fixed: np.ndarray) -> np.ndarray:

@@ -152,6 +152,7 @@ class World:
         self._masses = body_masses(scene)
         self.last: StepReport | None = None  # (None after steps that coasted: simulate's)
         self.impact_times: list[float] = []
+        self.lift_times: list[float] = []
         self._at_state = None  # (frame, resting solution) at the current state, when asked for
         self._last_dt: float | None = None
         with np.errstate(all="ignore"):
@@ -274,6 +275,7 @@ class World:
             self._check_energy(energy)
         _wrap_angles(new_q)
         self.impact_times += [self.t + tau for tau in report.impact_times]
+        self.lift_times += [self.t + tau for tau in report.lift_times]
         self.poses, self.velocities, self._energy = new_q, new_v, energy
         self.steps += 1
         self.t += float(dt)

@@ -7,7 +7,9 @@ instant is found and the island restarts there with a new frame (which decides t
 
 * slip -> stick: a sliding contact's v_t reaches 0, i.e. s v_t (s its sliding sign) falls from
   > 0 to <= 0: located by runtime.step.events.locate (safeguarded Newton, slope s a_t from the
-  forces at each point) until |v_t| <= settings.STICK_SPEED x settings.STICK_LOCATE;
+  forces at each point) until |v_t| <= settings.STICK_SPEED x settings.STICK_LOCATE (a contact
+  set sliding against a residual v_t below the stick speed has s v_t <= 0 from the start: it
+  is not moving its sliding way yet, and nothing is located);
 * stick -> slip: a sticking contact's hold needs more than mu f_n (the friction LCP's slack
   becomes positive, runtime.solve.friction_lcp): a predicate of the state, not a smooth
   function (two corners of a box share their friction in any split), so bisected to
@@ -109,9 +111,14 @@ class FrictionEvents:
         sliding = np.flatnonzero(sub.slide != 0)
         if sliding.size == 0:
             return None
+        starts = sub.slide[sliding] * state(0.0)[0][sliding]
         ends = sub.slide[sliding] * state(h)[0][sliding]
         earliest = None
-        for k in sliding[ends <= 0].tolist():
+        # only a slip along its sliding direction can stop: a contact set sliding from below the
+        # stick speed against its residual v_t (the direction its acceleration takes) is not
+        # moving that way yet -- located, it stopped at t = 0, and again at every restart
+        # (a falling pile with mu = 1 ran into MAX_EVENTS so, at t = 0.427 s)
+        for k in sliding[(starts > 0) & (ends <= 0)].tolist():
             s = float(sub.slide[k])
 
             def speed(t: float, k=k, s=s) -> tuple[float, float]:

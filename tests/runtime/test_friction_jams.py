@@ -40,3 +40,26 @@ def test_chattering_slips_stick_instead_of_exhausting_the_events():
         world.step(1e-3)
     assert world.t >= 0.063 - 1e-12
     assert np.all(np.isfinite(world.velocities))
+
+
+def _linear_slip(v0: float, a: float):
+    """state(t) of one contact whose v_t = v0 + a t (a constant tangential acceleration)."""
+    return lambda t: (np.array([v0 + a * t]), np.array([a]), np.zeros(1, bool))
+
+
+def test_only_a_slip_along_its_sliding_direction_is_located_as_it_stops():
+    """The falling 30-disc pile with mu = 1 stopped at t = 0.427 s with more than
+    settings.MAX_EVENTS located slip -> stick events, all at t = 3.8e-20 s: a contact set sliding
+    at s = -1 against its residual v_t = +1.85e-4 m/s (below the raised stick speed; its
+    acceleration -0.10 m/s^2 chose the direction) has s v_t < 0 from the start, and was found
+    to stop at once, at every restart. A slip that does stop is located where v0 + a t = 0."""
+    from types import SimpleNamespace
+
+    from runtime.step.friction_events import FrictionEvents
+
+    h = 4.2367e-5
+    against = SimpleNamespace(slide=np.array([-1]))
+    assert FrictionEvents._slip_to_stick(None, against, _linear_slip(1.85e-4, -0.102), h) is None
+    along = SimpleNamespace(slide=np.array([1]))
+    t = FrictionEvents._slip_to_stick(None, along, _linear_slip(2e-3, -100.0), h)
+    assert t is not None and abs(t - 2e-5) < 1e-9 * h + 1e-12 / 100.0

@@ -162,6 +162,9 @@ LEMKE_BASIS_PIVOT = 1e-12  # relative to the largest |entry| left in its column:
 LEMKE_RETRIES = 3  # solves again with a perturbed q after a ray (runtime.solve.lemke)
 LEMKE_PERTURB = 1e-13  # relative to max |q| (at least 1): the perturbation of such a retry; the
 # solution is then exact for a q changed by this much, far below LCP_TOL
+LEMKE_COVERS = 24  # other covering vectors tried after those retries (runtime.solve.lemke)
+LEMKE_CHECK = 1e-9  # relative to the largest z and |q|: how closely such a solution must solve
+# the LCP (w >= 0, z_i or w_i at 0)
 STICK_SPEED = 1e-9  # m/s: a frictional contact whose tangential speed |v_t| is at most this
 # sticks if the forces allow it (the friction LCP decides); faster, it slides against v_t. As
 # TOUCH for gaps: a located slip -> stick leaves |v_t| a thousandth of it (STICK_LOCATE)

@@ -42,6 +42,21 @@ def test_chattering_slips_stick_instead_of_exhausting_the_events():
     assert np.all(np.isfinite(world.velocities))
 
 
+def test_the_dropped_rows_settle_where_lemke_needs_another_covering_vector():
+    """The same rows run by `simulate` stopped at t = 0.063 s (Lemke's path for an island of
+    35 sticking contacts ended on a ray, and the held LP had no solution) and then at 0.064 s
+    (a path of 33 contacts cut off after settings.LEMKE_PIVOTS). Other covering vectors solve
+    both (runtime.solve.lemke.lemke_perturbed), and the rows come to rest with Coulomb's law at
+    every record; their deepest overlap is 6.5e-8 m."""
+    run = runtime.simulate(_with_friction(pile_scene(20, drop=0.01), 1.0), duration=0.3, dt=1e-3)
+    assert run.t[-1] >= 0.3 - 1e-12
+    assert run.max_penetration < 1e-7
+    for f_n, f_t in zip(run.contact_forces, run.friction_forces, strict=True):
+        assert np.all(f_n >= 0.0)
+        assert np.all(np.abs(f_t) <= f_n * (1 + 1e-9) + 1e-12)
+    assert np.all(np.abs(run.velocities[-1]) < 1e-6)  # at rest
+
+
 def _linear_slip(v0: float, a: float):
     """state(t) of one contact whose v_t = v0 + a t (a constant tangential acceleration)."""
     return lambda t: (np.array([v0 + a * t]), np.array([a]), np.zeros(1, bool))

@@ -40,6 +40,7 @@ from runtime import settings
 from runtime.collide.contact_keys import Guesses
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution
 from runtime.solve.friction_lcp import (
+    MOVES,
     FrictionInconsistent,
     island_slips,
     painleve,
@@ -120,10 +121,11 @@ class FrictionalForces(ContactForces):
 
     def solve(self, problem: FrictionProblem, rows: FrictionRows) -> FrictionSolution:
         """Forces and accelerations with each contact's mode; the modes are decided at the
-        problem's first solve (its frame)."""
+        problem's first solve (its frame). With the modes decided a failure ends the run, so
+        Lemke's method tries settings.LEMKE_COVERS_LAST covering vectors."""
         if problem.slide is None:
             problem.slide = self._decide(problem, rows)
-        return self._solve(problem, rows, problem.slide)
+        return self._solve(problem, rows, problem.slide, settings.LEMKE_COVERS_LAST)
 
     def _decide(self, problem: FrictionProblem, rows: FrictionRows) -> np.ndarray:
         v_t = rows.tangent_velocity
@@ -132,7 +134,7 @@ class FrictionalForces(ContactForces):
         jammed = np.zeros_like(slow)
         for _ in range(2 * len(slide) + 1):
             try:
-                solution = self._solve(problem, rows, slide)
+                solution = self._solve(problem, rows, slide, settings.LEMKE_COVERS)
             except FrictionInconsistent as error:
                 if slow.any():
                     slide, slow = np.where(slow, 0.0, slide), np.zeros_like(slow)
@@ -150,7 +152,9 @@ class FrictionalForces(ContactForces):
             slide[slips] = np.sign(solution.tangent_accelerations[slips])
         return slide
 
-    def _solve(self, problem, rows: FrictionRows, slide: np.ndarray) -> FrictionSolution:
+    def _solve(
+        self, problem, rows: FrictionRows, slide: np.ndarray, covers: int
+    ) -> FrictionSolution:
         m = len(rows.bias)
         frictional = rows.mu > 0
         if not frictional.any():
@@ -187,7 +191,7 @@ class FrictionalForces(ContactForces):
         )  # fmt: skip
         todo = np.flatnonzero(with_friction)
         while todo.size:
-            failed = solve_islands(todo, *args, slips, True)
+            failed, status = solve_islands(todo, *args, slips, True, covers)
             if failed < 0:
                 break
             g = todo[failed]
@@ -200,7 +204,9 @@ class FrictionalForces(ContactForces):
             )  # fmt: skip
             if held:
                 island_slips(forces[a:b], slack[a:b], rates[a:b], slips[a:b])
-            elif solve_islands(todo[failed : failed + 1], *args, slips, False) >= 0:
+            elif status != MOVES:  # Lemke's method found no solution: it would not again
+                raise painleve(rows.mu[a:b], slide[a:b], a)
+            elif solve_islands(todo[failed : failed + 1], *args, slips, False, covers)[0] >= 0:
                 raise painleve(rows.mu[a:b], slide[a:b], a)
             todo = todo[failed + 1 :]
         return FrictionSolution(acc, forces, rates, tangent, a_t, slips)

@@ -228,7 +228,7 @@ def island_lcp(
 @njit
 def solve_island(
     jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc,
-    normal, tangent, slack, tangent_acc, rates, acc, flags, hold_first,
+    normal, tangent, slack, tangent_acc, rates, acc, flags, hold_first, covers,
 ):  # fmt: skip
     """The forces of one island's K contacts (``ends`` (K, 2): body 1 and 2; ``bias`` the normal
     bias, stabilised if so; ``slide`` each contact's mode, 0 for a sticking or a frictionless
@@ -237,7 +237,8 @@ def solve_island(
     each contact's basis flags, tried first (all 0: none known) and replaced by the new basis.
     Returns SOLVED, or Lemke's status, or (``hold_first``) MOVES, nothing written, if every
     contact sticks and the solution found opens or slips one (:func:`_moves`): the caller tries
-    the island held first (:func:`solve_held`).
+    the island held first (:func:`solve_held`). ``covers``: Lemke's other covering vectors
+    (runtime.solve.lemke.lemke_perturbed).
     """
     M, q, stick = island_lcp(
         jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed, free_acc, rates
@@ -252,7 +253,7 @@ def solve_island(
         basic[k + i], basic[k + s + i] = (flags[c] & PLUS) != 0, (flags[c] & MINUS) != 0
         basic[k + 2 * s + i] = (flags[c] & SLACK) != 0
     if not (np.any(basic) and from_basis(M, q, basic, z)):
-        status = lemke_perturbed(M, q, z, basic)
+        status = lemke_perturbed(M, q, z, basic, covers)
         if status != SOLVED:
             return status
     if hold_first and _moves(M, q, z, slide, k, s):
@@ -268,12 +269,11 @@ def _moves(M, q, z, slide, k, s):
     contact (d'' > 0) or lets one slip (lambda > 0), each above settings.SLIP_ONSET of the
     island's scale (its largest |b_n|, at least 1, as :func:`island_slips`).
 
-    Why: with friction an island's LCP can have more than one solution. A packed pile of 40
-    discs at rest, which the forces of its frictionless pile hold in their cones, got from
-    Lemke's method one in which a disc spun up at 73 rad/s^2 and a third of the contacts opened;
-    its next stage, moving, had no solution. Where the island can be held (the forces of a
-    solution with every contact held lie in the cones), that solution is the one taken: a
-    body at rest that its contacts can hold stays at rest.
+    Why: with friction an island's LCP can have more than one solution, and where the island
+    can be held (the forces of a solution with every contact held lie in the cones), that
+    solution is the one taken: a body at rest that its contacts can hold stays at rest. (The
+    case that brought this in, a packed pile of 40 discs in which a disc spun up at 73 rad/s^2,
+    was a wrong end of Lemke's path, since refused: runtime.solve.lemke.lemke_perturbed.)
 
     An island of one contact is left to Lemke's solution: the question arises only where
     contacts share bodies, and asking it there cost a falling 20-disc pile with mu = 0.5 ~400
@@ -326,24 +326,24 @@ def write_solution(z, basic, stick, jac, tangent_jac, ends, tangent_bias, mu, sl
 @njit
 def solve_islands(
     groups, offsets, jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass, fixed,
-    free_acc, normal, tangent, slack, tangent_acc, rates, acc, flags, slips, hold_first,
+    free_acc, normal, tangent, slack, tangent_acc, rates, acc, flags, slips, hold_first, covers,
 ):  # fmt: skip
     """:func:`solve_island` for each island ``groups[i]`` (contacts offsets[g]:offsets[g + 1] of
     the arrays, which it writes as it does), and each one's ``slips`` (:func:`island_slips`), in
     one compiled loop: a scene of many small frictional islands paid ~20 us of Python for each.
-    Returns the index into ``groups`` of the first island not solved (or, ``hold_first``,
-    whose solution moves it: :func:`_moves`), -1 if all were."""
+    Returns (the index into ``groups`` of the first island not solved -- or, ``hold_first``,
+    whose solution moves it: :func:`_moves` -- and its status), (-1, SOLVED) if all were."""
     for i in range(groups.size):
         a, b = offsets[groups[i]], offsets[groups[i] + 1]
         status = solve_island(
             jac[a:b], tangent_jac[a:b], ends[a:b], bias[a:b], tangent_bias[a:b], mu[a:b],
             slide[a:b], inv_mass, fixed, free_acc, normal[a:b], tangent[a:b], slack[a:b],
-            tangent_acc[a:b], rates[a:b], acc, flags[a:b], hold_first,
+            tangent_acc[a:b], rates[a:b], acc, flags[a:b], hold_first, covers,
         )  # fmt: skip
         if status != SOLVED:
-            return i
+            return i, status
         island_slips(normal[a:b], slack[a:b], rates[a:b], slips[a:b])
-    return -1
+    return -1, SOLVED
 
 
 @njit

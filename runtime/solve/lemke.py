@@ -30,10 +30,10 @@ import numpy as np
 from runtime import settings
 from runtime.compiled import njit
 
-SOLVED, RAY, ITERATIONS = 0, 1, 2
+SOLVED, RAY, ITERATIONS, INACCURATE = 0, 1, 2, 3
 _PIVOT, _TIE, _PIVOTS = settings.LEMKE_PIVOT, settings.LEMKE_TIE, settings.LEMKE_PIVOTS
 _RETRIES, _PERTURB = settings.LEMKE_RETRIES, settings.LEMKE_PERTURB
-_COVERS, _CHECK = settings.LEMKE_COVERS, settings.LEMKE_CHECK
+_CHECK = settings.LEMKE_CHECK
 
 
 @njit
@@ -95,23 +95,29 @@ def lemke_covering(M, q, d, z, basic):
 
 
 @njit
-def lemke_perturbed(M, q, z, basic):
-    """:func:`lemke`, and on a ray (or a path cut off after settings.LEMKE_PIVOTS) up to
-    settings.LEMKE_RETRIES times again with q moved by
-    settings.LEMKE_PERTURB x max |q| in a fixed pattern: degenerate problems (rounding-level
-    q entries beside exact zeros: a disc in a pile with d' = -5e-12 sliding at 0.14 m/s) can end
-    on a ray that an exact lexicographic rule would not reach, and a perturbation of q is the
-    lexicographic rule's own idea made numeric. Then up to settings.LEMKE_COVERS other
-    covering vectors (fixed quasi-random ones in [0.1, 1]), each solution checked
-    (:func:`complementary`): M is not copositive-plus here, so a ray does not prove that there
-    is no solution, and the path depends on the covering vector. Rows of 20 discs dropped with
-    mu = 1 stopped at an island of 35 sticking contacts (140 unknowns) whose path with all ones
-    ends on a ray; 4 of the first 40 of these vectors solve it (the 5th first), 20 of 40 for a
-    jammed 40-contact island of a falling 30-disc pile. A heuristic, then, and a last one: a
-    problem with no solution keeps the first path's status."""
+def lemke_perturbed(M, q, z, basic, covers):
+    """:func:`lemke`, and on a ray, a path cut off after settings.LEMKE_PIVOTS or an end that
+    does not solve the LCP (:func:`complementary`) up to settings.LEMKE_RETRIES times again
+    with q moved by settings.LEMKE_PERTURB x max |q| in a fixed pattern: degenerate problems
+    (rounding-level q entries beside exact zeros: a disc in a pile with d' = -5e-12 sliding at
+    0.14 m/s) can end on a ray that an exact lexicographic rule would not reach, and a
+    perturbation of q is the lexicographic rule's own idea made numeric. Then up to ``covers``
+    other covering vectors (fixed quasi-random ones in [0.1, 1]; settings.LEMKE_COVERS and
+    LEMKE_COVERS_LAST say how many where): M is not copositive-plus here, so a ray does not
+    prove that there is no solution, and the path depends on the covering vector. Rows of 20 discs dropped with mu = 1 stopped at an island
+    of 35 sticking contacts (140 unknowns) whose path with all ones ends on a ray; 4 of the
+    first 40 of these vectors solve it (the 5th first), 20 of 40 for a jammed 40-contact island
+    of a falling 30-disc pile. A heuristic, then, and a last one: a problem with no solution
+    keeps the first path's status (INACCURATE where that path ended but did not solve it).
+
+    Every end is checked against the LCP itself: in a 35-contact island of those rows the path
+    with all ones ended "solved" at z with w_i = -18.9 beside z_i = 120 (its tableau's rounding
+    had chosen a wrong basis; the pile sank 6.5e-8 m into a contact that force held)."""
     first = lemke(M, q, z, basic)
     if first == SOLVED:
-        return SOLVED
+        if complementary(M, q, z):
+            return SOLVED
+        first = INACCURATE
     size = 1.0
     for i in range(q.size):
         size = max(size, abs(q[i]))
@@ -119,9 +125,9 @@ def lemke_perturbed(M, q, z, basic):
         moved = q.copy()
         for i in range(q.size):
             moved[i] += _PERTURB * size * attempt * (1.0 + ((i * 0.6180339887498949) % 1.0))
-        if lemke(M, moved, z, basic) == SOLVED:
+        if lemke(M, moved, z, basic) == SOLVED and complementary(M, q, z):
             return SOLVED
-    for attempt in range(1, _COVERS + 1):
+    for attempt in range(1, covers + 1):
         d = np.empty(q.size)
         for i in range(q.size):
             d[i] = 0.1 + 0.9 * ((i * 0.6180339887498949 + attempt * 0.7548776662466927) % 1.0)
@@ -202,8 +208,9 @@ def _lex_less(T, a, b, col, n):
 
 
 def solve(M: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, int]:
-    """(z, status) of the LCP (M, q) by :func:`lemke_perturbed` (float64 copies)."""
+    """(z, status) of the LCP (M, q) by :func:`lemke_perturbed` (float64 copies), with
+    settings.LEMKE_COVERS_LAST covering vectors: its caller has no other answer."""
     M = np.ascontiguousarray(M, dtype=float)
     q = np.ascontiguousarray(q, dtype=float)
     z = np.zeros(q.size)
-    return z, int(lemke_perturbed(M, q, z, np.zeros(q.size, np.bool_)))
+    return z, int(lemke_perturbed(M, q, z, np.zeros(q.size, np.bool_), settings.LEMKE_COVERS_LAST))

@@ -51,6 +51,7 @@ _RESIDUAL = settings.STICK_SPEED * settings.STICK_LOCATE  # m/s: a slip the hold
 _WAVES = settings.MAX_WAVES  # restitution waves before the final plastic pass
 _ENERGY_SLACK = settings.IMPACT_ENERGY_SLACK
 _EPS = 2.220446049250313e-16  # float64's machine epsilon: lstsq's rcond as NumPy's default
+_COVERS = settings.LEMKE_COVERS  # Lemke's covering vectors here: a failure declines to Python
 
 
 @njit
@@ -72,9 +73,9 @@ def accelerations(
         return False
     failed = solve_islands(
         islands, offsets, jac, tangent_jac, ends, bias, tangent_bias, mu, slide, inv_mass,
-        fixed, free_acc, normal, tangent, slack, a_t, rates, acc, flags, slips, True,
+        fixed, free_acc, normal, tangent, slack, a_t, rates, acc, flags, slips, True, _COVERS,
     )  # fmt: skip
-    return failed < 0
+    return failed[0] < 0
 
 
 @njit
@@ -224,7 +225,7 @@ def friction_forces(rows, tangent, mu, stick_speed, inv_mass, fixed, free_acc, m
         acc[:, :] = free_acc
         if solve_islands(islands, offsets, sub_jac, sub_tangent, ends, sub_bias, sub_tangent_bias,
                          sub_mu, sub_slide, inv_mass, fixed, free_acc, normal, tangential, slack,
-                         a_t, sub_rates, acc, sub_flags, slips, True) >= 0:  # fmt: skip
+                         a_t, sub_rates, acc, sub_flags, slips, True, _COVERS)[0] >= 0:  # fmt: skip
             return False
         if not np.any(slips):
             break
@@ -341,7 +342,7 @@ def cone_lcp(Jn, Jt, w, mu, vn, vt, normal, free_normal):
         M[plus + i, slack + i] = M[minus + i, slack + i] = 1.0
         M[slack + i, plus + i] = M[slack + i, minus + i] = -1.0
     z = np.zeros(n)
-    solved = lemke_perturbed(M, q, z, np.zeros(n, np.bool_)) == SOLVED
+    solved = lemke_perturbed(M, q, z, np.zeros(n, np.bool_), _COVERS) == SOLVED
     P = z[:k].copy() if free_normal else normal.copy()
     T = np.zeros(k)
     for i in range(s):

@@ -18,6 +18,7 @@ import pytest
 
 import runtime
 from bench.steps import pile_scene
+from runtime import settings
 from runtime.solve import friction, friction_lcp, lemke
 
 
@@ -46,7 +47,7 @@ def _p_matrix_problem(seed: int):
 
 def _lemke(M, q):
     z, basic = np.zeros(q.size), np.zeros(q.size, bool)
-    assert lemke.lemke_perturbed(M, q, z, basic) == lemke.SOLVED
+    assert lemke.lemke_perturbed(M, q, z, basic, settings.LEMKE_COVERS) == lemke.SOLVED
     return z, basic
 
 
@@ -123,9 +124,11 @@ def test_a_frictional_pile_keeps_coulombs_law_at_every_step(discs, monkeypatch):
     vector of ones: another covering vector solves it (runtime.solve.lemke.lemke_perturbed; it
     was solved held before, by friction_lcp.solve_held, counted here), the 20-disc pile's by
     Lemke's method and bases.
-    The 40-disc pile's first frame gets from Lemke's method a solution that spins a disc up at
-    73 rad/s^2 and opens a third of the contacts, after which its next stage had no solution:
-    the held solution is preferred (friction_lcp._moves), and it stays at rest."""
+    The 40-disc pile's first frame got from Lemke's path with the vector of ones an end that
+    does not solve its LCP (w down to -5.8); taken, it spun a disc up at 73 rad/s^2 and opened a
+    third of the contacts, and the held solution was preferred (friction_lcp._moves). That end is
+    refused now (runtime.solve.lemke.lemke_perturbed checks every end), and another covering
+    vector's solution holds the pile at rest: no pile here needs the held linear program."""
     held, original = [], friction.solve_held
 
     def counted(*args):
@@ -136,7 +139,9 @@ def test_a_frictional_pile_keeps_coulombs_law_at_every_step(discs, monkeypatch):
     run = runtime.simulate(_frictional_pile(discs, 0.5), duration=0.05, dt=1e-3)
     for f_n, f_t in zip(run.contact_forces, run.friction_forces, strict=True):
         assert np.all(f_n >= 0.0)
-        assert np.all(np.abs(f_t) <= 0.5 * f_n * (1 + 1e-9) + 1e-12)
+        # (+ rounding: contacts without normal force in the 40-disc pile carry |f_t| ~3e-12 N
+        # beside normal forces of ~600 N, 25 eps of them, since Lemke's ends are checked)
+        assert np.all(np.abs(f_t) <= 0.5 * f_n * (1 + 1e-9) + 1e-13 * max(f_n.max(), 1.0))
     assert run.max_penetration < 1e-9
-    assert (True in held) == (discs == 40)
+    assert True not in held
     assert np.all(np.abs(run.velocities[-1]) < 1e-6)  # it stays at rest

@@ -4,11 +4,17 @@ chatter (coupled slips stopping and restarting ~1e-9 s apart)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 import runtime
 from bench.scenes import falling_pile
 from bench.steps import pile_scene
+from runtime import settings
+from runtime.solve import lemke
+
+DATA = Path(__file__).parent / "data"
 
 
 def _with_friction(scene, mu):
@@ -47,10 +53,11 @@ def test_the_dropped_rows_settle_where_lemke_needs_another_covering_vector():
     35 sticking contacts ended on a ray, and the held LP had no solution) and then at 0.064 s
     (a path of 33 contacts cut off after settings.LEMKE_PIVOTS). Other covering vectors solve
     both (runtime.solve.lemke.lemke_perturbed), and the rows come to rest with Coulomb's law at
-    every record; their deepest overlap is 6.5e-8 m."""
+    every record and without overlap: they had sunk 6.5e-8 m into a contact whose force a
+    wrong end of Lemke's path (below) left at d'' = -18.9 m/s^2."""
     run = runtime.simulate(_with_friction(pile_scene(20, drop=0.01), 1.0), duration=0.3, dt=1e-3)
     assert run.t[-1] >= 0.3 - 1e-12
-    assert run.max_penetration < 1e-7
+    assert run.max_penetration < 1e-9
     for f_n, f_t in zip(run.contact_forces, run.friction_forces, strict=True):
         assert np.all(f_n >= 0.0)
         assert np.all(np.abs(f_t) <= f_n * (1 + 1e-9) + 1e-12)
@@ -78,3 +85,42 @@ def test_only_a_slip_along_its_sliding_direction_is_located_as_it_stops():
     along = SimpleNamespace(slide=np.array([1]))
     t = FrictionEvents._slip_to_stick(None, along, _linear_slip(2e-3, -100.0), h)
     assert t is not None and abs(t - 2e-5) < 1e-9 * h + 1e-12 / 100.0
+
+
+def _assert_solves(M, q, z):
+    """z solves the LCP (M, q): z >= 0, w = M z + q >= 0 and z_i w_i = 0, to 1e-9 of the
+    largest z and |q| (numpy, apart from runtime.solve.lemke's own check)."""
+    w = M @ z + q
+    z_scale, w_scale = max(z.max(), 1e-300), max(np.abs(q).max(), 1.0)
+    assert z.min() >= 0.0
+    assert w.min() >= -1e-9 * w_scale
+    assert np.minimum(z / z_scale, w / w_scale).max() <= 1e-9
+
+
+def test_an_end_of_lemkes_path_that_does_not_solve_the_problem_is_not_taken():
+    """The friction LCP (140 unknowns) of the dropped rows' 35-contact island at an RK4 stage
+    after t = 0.0639 s: Lemke's path with the covering vector of ones ends with z0 out of the
+    basis, "solved", at a z whose w_22 = -18.9 beside z_22 = 120 (the tableau's rounding chose
+    a wrong basis). lemke_perturbed checks every end against M and q and goes on to perturbed
+    and other covering vectors until one solves it."""
+    data = np.load(DATA / "lemke_wrong_end.npz")
+    M, q = data["M"], data["q"]
+    z, basic = np.zeros(q.size), np.zeros(q.size, bool)
+    assert lemke.lemke(M, q, z, basic) == lemke.SOLVED
+    assert (M @ z + q).min() < -10.0  # the wrong end this test is about
+    assert lemke.lemke_perturbed(M, q, z, basic, settings.LEMKE_COVERS) == lemke.SOLVED
+    _assert_solves(M, q, z)
+
+
+def test_where_a_failure_would_end_the_run_lemke_tries_more_covering_vectors():
+    """The friction LCP (151 unknowns, 3 contacts sliding) of the falling 30-disc pile with
+    mu = 1 at an RK4 stage of t = 0.529 s: no path of the first settings.LEMKE_COVERS covering
+    vectors solves it (the 28th does). With its modes decided such a failure would end the run,
+    so there (runtime.solve.friction.FrictionalForces.solve) LEMKE_COVERS_LAST are tried."""
+    data = np.load(DATA / "lemke_late_cover.npz")
+    M, q = data["M"], data["q"]
+    z, basic = np.zeros(q.size), np.zeros(q.size, bool)
+    assert lemke.lemke_perturbed(M, q, z, basic, settings.LEMKE_COVERS) != lemke.SOLVED
+    status = lemke.lemke_perturbed(M, q, z, basic, settings.LEMKE_COVERS_LAST)
+    assert status == lemke.SOLVED
+    _assert_solves(M, q, z)

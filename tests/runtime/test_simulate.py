@@ -96,25 +96,36 @@ def test_memory_of_a_step_grows_linearly_with_touching_discs():
     assert large <= 6 * small, (small, large)
 
 
-def test_looking_at_the_contacts_between_steps_does_not_change_the_run():
+@pytest.mark.parametrize("mu", [0.0, 1.0])
+def test_looking_at_the_contacts_between_steps_does_not_change_the_run(mu):
     """World.contacts and contact_forces are a look, not a step: they leave the stepper's
-    resting sets and warm-start guesses as they were (they used to replace them with the
-    look's own: a 200-disc pile failed at t = 0.622 s only when its contacts were asked for
-    every 10 steps), and the same falling pile stepped 300 times gives the same poses bit for
-    bit whether its contacts are asked for after every step or never."""
+    resting sets, warm-start guesses and friction bases as they were (they used to replace them
+    with the look's own: a 200-disc pile failed at t = 0.622 s only when its contacts were asked
+    for every 10 steps; with mu = 1 a falling 30-disc pile took another path), and
+    the same falling pile stepped 300 times gives the same poses bit for bit whether its
+    contacts are asked for after every step or never."""
     from bench.scenes import falling_pile
 
-    plain, watched = runtime.World(falling_pile(12)), runtime.World(falling_pile(12))
+    def pile():
+        scene = falling_pile(12)
+        for body in scene.bodies:
+            body.friction = mu
+        return scene
+
+    plain, watched = runtime.World(pile()), runtime.World(pile())
     touching = 0
     for _ in range(300):
         plain.step(1e-3)
         watched.step(1e-3)
         stepper = watched.stepper
         before = stepper.held, stepper.recent, dict(stepper.forces.memory.items())
+        bases = dict(stepper.forces.bases.items()) if mu else None
         touching += len(watched.contacts)
         watched.contact_forces  # noqa: B018 -- the look under test
         assert stepper.held is before[0] and stepper.recent is before[1]
         assert dict(stepper.forces.memory.items()) == before[2]
+        if mu:
+            assert dict(stepper.forces.bases.items()) == bases
     assert touching > 300  # the pile landed: there was something to look at
     np.testing.assert_array_equal(watched.poses, plain.poses)
     np.testing.assert_array_equal(watched.velocities, plain.velocities)

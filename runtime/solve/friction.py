@@ -49,6 +49,8 @@ from runtime.solve.friction_lcp import (
 )
 from runtime.solve.friction_rows import FrictionRows
 
+_COVERS = settings.LEMKE_COVERS  # Lemke's covering vectors where a failure has an answer
+
 
 @dataclass
 class FrictionProblem(ForceProblem):
@@ -122,10 +124,10 @@ class FrictionalForces(ContactForces):
     def solve(self, problem: FrictionProblem, rows: FrictionRows) -> FrictionSolution:
         """Forces and accelerations with each contact's mode; the modes are decided at the
         problem's first solve (its frame). With the modes decided a failure ends the run, so
-        Lemke's method tries settings.LEMKE_COVERS_LAST covering vectors."""
+        there Lemke's method tries settings.LEMKE_COVERS_LAST covering vectors before it."""
         if problem.slide is None:
             problem.slide = self._decide(problem, rows)
-        return self._solve(problem, rows, problem.slide, settings.LEMKE_COVERS_LAST)
+        return self._solve(problem, rows, problem.slide, final=True)
 
     def _decide(self, problem: FrictionProblem, rows: FrictionRows) -> np.ndarray:
         v_t = rows.tangent_velocity
@@ -134,7 +136,7 @@ class FrictionalForces(ContactForces):
         jammed = np.zeros_like(slow)
         for _ in range(2 * len(slide) + 1):
             try:
-                solution = self._solve(problem, rows, slide, settings.LEMKE_COVERS)
+                solution = self._solve(problem, rows, slide, final=False)
             except FrictionInconsistent as error:
                 if slow.any():
                     slide, slow = np.where(slow, 0.0, slide), np.zeros_like(slow)
@@ -153,7 +155,7 @@ class FrictionalForces(ContactForces):
         return slide
 
     def _solve(
-        self, problem, rows: FrictionRows, slide: np.ndarray, covers: int
+        self, problem, rows: FrictionRows, slide: np.ndarray, final: bool
     ) -> FrictionSolution:
         m = len(rows.bias)
         frictional = rows.mu > 0
@@ -191,7 +193,7 @@ class FrictionalForces(ContactForces):
         )  # fmt: skip
         todo = np.flatnonzero(with_friction)
         while todo.size:
-            failed, status = solve_islands(todo, *args, slips, True, covers)
+            failed, status = solve_islands(todo, *args, slips, True, _COVERS)
             if failed < 0:
                 break
             g = todo[failed]
@@ -204,10 +206,13 @@ class FrictionalForces(ContactForces):
             )  # fmt: skip
             if held:
                 island_slips(forces[a:b], slack[a:b], rates[a:b], slips[a:b])
-            elif status != MOVES:  # Lemke's method found no solution: it would not again
-                raise painleve(rows.mu[a:b], slide[a:b], a)
-            elif solve_islands(todo[failed : failed + 1], *args, slips, False, covers)[0] >= 0:
-                raise painleve(rows.mu[a:b], slide[a:b], a)
+            else:  # Lemke's solution that moves, found again; or where a failure ends the run,
+                # more covering vectors (Lemke's method would repeat the failure with as many)
+                again = status == MOVES or final
+                covers = _COVERS if status == MOVES else settings.LEMKE_COVERS_LAST
+                one = todo[failed : failed + 1]
+                if not again or solve_islands(one, *args, slips, False, covers)[0] >= 0:
+                    raise painleve(rows.mu[a:b], slide[a:b], a)
             todo = todo[failed + 1 :]
         return FrictionSolution(acc, forces, rates, tangent, a_t, slips)
 

@@ -163,8 +163,8 @@ LEMKE_RETRIES = 3  # solves again with a perturbed q after a ray (runtime.solve.
 LEMKE_PERTURB = 1e-13  # relative to max |q| (at least 1): the perturbation of such a retry; the
 # solution is then exact for a q changed by this much, far below LCP_TOL
 LEMKE_COVERS = 24  # other covering vectors tried after those retries (runtime.solve.lemke) where
-# a failure has an answer: the friction modes are being decided (a jam sticks its slides), or a
-# compiled path declines to the general one
+# a failure has an answer: the friction modes are being decided (a jam sticks its slides); the
+# compiled paths try none (runtime.step.compiled_friction: a failure declines to the general path)
 LEMKE_COVERS_LAST = 400  # where a failure ends the run (an integrator stage's forces, an
 # impact's frictional impulses): one problem of a 30-disc pile with mu = 1 (151 unknowns, ~4 ms
 # a path) was solved by 20 of the first 399 vectors, the first at the 28th

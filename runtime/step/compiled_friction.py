@@ -51,7 +51,9 @@ _RESIDUAL = settings.STICK_SPEED * settings.STICK_LOCATE  # m/s: a slip the hold
 _WAVES = settings.MAX_WAVES  # restitution waves before the final plastic pass
 _ENERGY_SLACK = settings.IMPACT_ENERGY_SLACK
 _EPS = 2.220446049250313e-16  # float64's machine epsilon: lstsq's rcond as NumPy's default
-_COVERS = settings.LEMKE_COVERS  # Lemke's covering vectors here: a failure declines to Python
+_COVERS = 0  # Lemke's other covering vectors here: none, a failure declines to the general
+# path, which tries them (trying them here too doubled the cost of a failing path: a packed
+# 60-disc pile's first frame, ~600 unknowns, 84 s here and 84 s again there)
 
 
 @njit

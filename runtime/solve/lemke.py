@@ -104,10 +104,10 @@ def lemke_perturbed(M, q, z, basic, covers):
     perturbation of q is the lexicographic rule's own idea made numeric. Then up to ``covers``
     other covering vectors (fixed quasi-random ones in [0.1, 1]; settings.LEMKE_COVERS and
     LEMKE_COVERS_LAST say how many where): M is not copositive-plus here, so a ray does not
-    prove that there is no solution, and the path depends on the covering vector. Rows of 20 discs dropped with mu = 1 stopped at an island
-    of 35 sticking contacts (140 unknowns) whose path with all ones ends on a ray; 4 of the
-    first 40 of these vectors solve it (the 5th first), 20 of 40 for a jammed 40-contact island
-    of a falling 30-disc pile. A heuristic, then, and a last one: a problem with no solution
+    prove that there is no solution, and the path depends on the covering vector. Rows of 20
+    discs dropped with mu = 1 stopped at an island of 35 sticking contacts (140 unknowns) whose
+    path with all ones ends on a ray; 4 of the first 40 of these vectors solve it (the 5th
+    first), 20 of 40 for a jammed 40-contact island of a falling 30-disc pile. A heuristic, then, and a last one: a problem with no solution
     keeps the first path's status (INACCURATE where that path ended but did not solve it).
 
     Every end is checked against the LCP itself: in a 35-contact island of those rows the path

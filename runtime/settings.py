@@ -155,7 +155,8 @@ LEMKE_PIVOT = 1e-12  # relative to the largest |M_ij| (at least 1): a tableau en
 # entries are O(1/mass) and O(mu), its eliminations lose a few digits at most
 LEMKE_TIE = 1e-12  # relative to the minimum ratio: rows within this of it tie (and the
 # lexicographic rule decides); two equal tangential rows (a box's corners) tie exactly
-LEMKE_PIVOTS = 50  # times (n + 1): pivots of one Lemke solve before giving up (it needs about n)
+LEMKE_PIVOTS = 50  # times (n + 1): pivots of one Lemke solve before giving up (it needs about n;
+# a path that meets a basis again, a cycle of rounding, ends there: runtime.solve.lemke)
 LEMKE_BASIS_PIVOT = 1e-12  # relative to the largest |entry| left in its column: an LU pivot
 # of a remembered friction basis (runtime.solve.friction_lcp) below this is singular, and Lemke's
 # method solves instead

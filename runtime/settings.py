@@ -169,6 +169,11 @@ LEMKE_COVERS = 24  # other covering vectors tried after those retries (runtime.s
 LEMKE_COVERS_LAST = 400  # where a failure ends the run (an integrator stage's forces, an
 # impact's frictional impulses): one problem of a 30-disc pile with mu = 1 (151 unknowns, ~4 ms
 # a path) was solved by 20 of the first 399 vectors, the first at the 28th
+HELD_FIRST = 256  # unknowns: an island that sticks everywhere, this large, with no remembered
+# basis that solves it, is tried held (runtime.solve.friction_lcp.solve_held, a linear program)
+# before Lemke's method, whose path costs O(n^3): the first frames of packed piles with
+# mu = 0.5, LP against one path: 208 unknowns 3.5 / 1.5 ms, 320: 5.2 / 28 ms, 432: 7.1 / 119 ms,
+# 660: 12 / 560 ms (and that path failed). Held, they would be held with Lemke's forces too
 LEMKE_CHECK = 1e-9  # relative to the largest z and |q|: how closely such a solution must solve
 # the LCP (w >= 0, z_i or w_i at 0)
 STICK_SPEED = 1e-9  # m/s: a frictional contact whose tangential speed |v_t| is at most this

@@ -23,7 +23,8 @@ sub-step) each frictional resting contact gets a mode, kept for the whole trial:
   the LCP with friction can have more than one solution). So where Lemke's first path (and its
   perturbed retries) finds no forces, the held linear program comes before the other covering
   vectors (runtime.solve.lemke.lemke_perturbed): were the island held, their solution would be
-  held too, and a path of a packed 60-disc pile's 660 unknowns costs ~0.3 s.
+  held too, and a path of a packed 60-disc pile's 660 unknowns costs ~0.5 s; an island that
+  large (settings.HELD_FIRST) with no remembered basis that solves it is tried held first.
 
 The transitions inside a step (stick -> slip when |f_t| reaches mu f_n, slip -> stick when v_t
 crosses 0) are located by runtime.step.friction_events and start a new frame there.
@@ -209,8 +210,9 @@ class FrictionalForces(ContactForces):
             )  # fmt: skip
             if held:
                 island_slips(forces[a:b], slack[a:b], rates[a:b], slips[a:b])
-            else:  # Lemke's solution that moves, found again; or other covering vectors, more
-                # where a failure ends the run
+            else:  # Lemke's solution that moves, found again; Lemke's method where the held
+                # program came first (HOLD_FIRST); other covering vectors, more where a failure
+                # ends the run
                 covers = settings.LEMKE_COVERS_LAST if final and status != MOVES else _COVERS
                 one = todo[failed : failed + 1]
                 if solve_islands(one, *args, slips, False, covers)[0] >= 0:

@@ -46,6 +46,9 @@ friction LCP with lambda = 0. (The least-norm forces of that held system are not
 The held solution is also tried first when Lemke's method (or a warm start) solves an island
 whose contacts all stick with forces that open or slip one of them (:func:`_moves`): with
 friction the LCP can have more than one solution, and where the island can be held, it is held.
+So a large island that sticks everywhere and has no basis that solves it is tried held before
+Lemke's method (settings.HELD_FIRST: from a few hundred unknowns the linear program costs far
+less than a path).
 """
 
 from __future__ import annotations
@@ -60,6 +63,9 @@ from runtime.solve.lemke import SOLVED, lemke_perturbed
 
 MOVES = -1  # solve_island's status: a solution that opens or slips a contact of an island
 # that sticks everywhere (solve_held is tried first)
+HOLD_FIRST = -2  # solve_island's status: an island that sticks everywhere, has no basis that
+# solves it and settings.HELD_FIRST unknowns or more: solve_held first, Lemke's method after
+_HELD_FIRST = settings.HELD_FIRST
 NORMAL, PLUS, MINUS, SLACK = 1, 2, 4, 8  # a contact's basis flags: f_n, f+, f-, lambda basic
 _TOL = settings.LCP_SHARP
 _SINGULAR = settings.LEMKE_BASIS_PIVOT
@@ -236,8 +242,10 @@ def solve_island(
     free d'', b_n); ``acc`` (n, 3) gets the forces' accelerations added. ``flags`` (K, int8):
     each contact's basis flags, tried first (all 0: none known) and replaced by the new basis.
     Returns SOLVED, or Lemke's status, or (``hold_first``) MOVES, nothing written, if every
-    contact sticks and the solution found opens or slips one (:func:`_moves`): the caller tries
-    the island held first (:func:`solve_held`). ``covers``: Lemke's other covering vectors
+    contact sticks and the solution found opens or slips one (:func:`_moves`), or HOLD_FIRST,
+    nothing solved, if every contact sticks, no remembered basis solves the island and it has
+    settings.HELD_FIRST unknowns or more: the caller tries the island held first
+    (:func:`solve_held`). ``covers``: Lemke's other covering vectors
     (runtime.solve.lemke.lemke_perturbed).
     """
     M, q, stick = island_lcp(
@@ -253,6 +261,8 @@ def solve_island(
         basic[k + i], basic[k + s + i] = (flags[c] & PLUS) != 0, (flags[c] & MINUS) != 0
         basic[k + 2 * s + i] = (flags[c] & SLACK) != 0
     if not (np.any(basic) and from_basis(M, q, basic, z)):
+        if hold_first and q.size >= _HELD_FIRST and _sticks(slide, k):
+            return HOLD_FIRST
         status = lemke_perturbed(M, q, z, basic, covers)
         if status != SOLVED:
             return status
@@ -261,6 +271,17 @@ def solve_island(
     write_solution(z, basic, stick, jac, tangent_jac, ends, tangent_bias, mu, slide, inv_mass,
                    normal, tangent, slack, tangent_acc, acc, flags)  # fmt: skip
     return SOLVED
+
+
+@njit
+def _sticks(slide, k):
+    """Whether an island of k contacts, two or more, sticks everywhere (``slide`` all 0)."""
+    if k < 2:
+        return False
+    for i in range(slide.size):
+        if slide[i] != 0.0:
+            return False
+    return True
 
 
 @njit
@@ -278,11 +299,8 @@ def _moves(M, q, z, slide, k, s):
     An island of one contact is left to Lemke's solution: the question arises only where
     contacts share bodies, and asking it there cost a falling 20-disc pile with mu = 0.5 ~400
     linear programs (0.4 s of its 2.5 s), none of which held."""
-    if k < 2:
+    if not _sticks(slide, k):
         return False
-    for i in range(slide.size):
-        if slide[i] != 0.0:
-            return False
     tol = 1.0
     for i in range(k):
         tol = max(tol, abs(q[i]))
@@ -367,7 +385,8 @@ def solve_held(
     and outputs) is solved with every contact held, d'' = 0 and a_t = 0: forces in the cones
     (f_n >= 0, |f_t| <= mu f_n) by a linear program (scipy's HiGHS), checked as a solution of
     the friction LCP to settings.LCP_TOL. The fallback of the module docstring, for when
-    Lemke's method ends on a ray."""
+    Lemke's method finds no solution or one that moves the island, and the first try of a
+    large island (settings.HELD_FIRST)."""
     if np.any(slide != 0):
         return False
     M, q, stick = island_lcp(

@@ -119,17 +119,16 @@ def test_a_sticking_pile_gets_lemkes_forces_from_its_remembered_bases():
 
 
 @pytest.mark.parametrize(
-    ("discs", "held_first_frame"), [(12, True), (20, False), (40, False), (60, True)]
+    ("discs", "held_first_frame"), [(12, True), (20, False), (40, True), (60, True)]
 )
 def test_a_frictional_pile_keeps_coulombs_law_at_every_step(discs, held_first_frame, monkeypatch):
     """Packed piles with mu = 0.5 at rest: forces in the cones, no overlap, and they stay at rest.
-    The first frames of the 12- and 60-disc piles end Lemke's path with the covering vector of
-    ones and its perturbed retries on rays or ends that do not solve their LCPs, and the held
-    linear program solves them (runtime.solve.friction_lcp.solve_held, counted here) before
-    other covering vectors are tried; the 60-disc pile's 24 other vectors all fail (4 of their
-    paths cycle). The 20- and 40-disc piles are solved by Lemke's method and bases (the
-    40-disc pile's first path once ended at a z with w down to -5.8 that spun a disc up at
-    73 rad/s^2; that end is refused: runtime.solve.lemke.lemke_perturbed)."""
+    The 12-disc pile's first frame ends Lemke's path with the covering vector of ones and its
+    perturbed retries on rays, and the held linear program solves it
+    (runtime.solve.friction_lcp.solve_held, counted here) before other covering vectors are
+    tried. The first frames of the 40- and 60-disc piles (432 and 660 unknowns) are tried held
+    first (settings.HELD_FIRST; the 60-disc pile's Lemke paths all fail, 4 of 25 cycle). The
+    20-disc pile is solved by Lemke's method and bases."""
     held, original = [], friction.solve_held
 
     def counted(*args):

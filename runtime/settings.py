@@ -226,6 +226,9 @@ SETTLE_ROUNDS = 8  # press/lift rounds of runtime.step.resting before a step goe
 
 RTOL, ATOL = 1e-9, 1e-12  # the adaptive methods' (rk45, dop853) error tolerances per step
 MAX_EVENTS = 1000  # located impacts allowed inside one step of one island before giving up
+TRIAL_CUTS = 30  # halvings of a trial whose friction modes no forces obey before its end
+# (runtime.step.stepper.Stepper._trial): down to 1e-9 of the step, where the frame's own forces
+# were found; the sub-step then ends at a new frame, which decides the modes again
 LOCATE_ITERATIONS = 60  # Newton/bisection steps to locate one impact in time
 TIME_EPS = 4.0  # relative to the float spacing of the step length: two times this close are equal
 GRAZE = 1e-6  # relative to TOUCH: a zero of d with d' = 0 that dips less than this is a graze

@@ -13,6 +13,7 @@ from bench.scenes import falling_pile
 from bench.steps import pile_scene
 from runtime import settings
 from runtime.solve import lemke
+from runtime.solve.friction_lcp import painleve
 
 DATA = Path(__file__).parent / "data"
 
@@ -150,3 +151,48 @@ def test_a_path_that_meets_a_basis_again_ends_there(monkeypatch):
     assert len(met) < 2 * (n + 1)
     assert met[-1] in met[:-1]  # it stopped at the first basis met twice
     assert len(set(met[:-1])) == len(met) - 1
+
+
+def test_a_pile_whose_trial_meets_a_painleve_configuration_goes_on():
+    """The falling 20-disc pile with mu = 0.5 stopped at t = 0.672 s: an RK4 stage of the trial
+    from a frame (21 contacts, 19 sliding at up to 1.4 cm/s) found no forces that obey the
+    frame's modes -- they were consistent at the frame, not half a step on. Such a trial is
+    now cut (runtime.step.stepper.Stepper._trial) and a new frame decides the modes again;
+    the pile runs its second with Coulomb's law at every record and without overlap."""
+    run = runtime.simulate(_with_friction(falling_pile(20), 0.5), duration=1.0, dt=1e-3)
+    assert run.t[-1] >= 1.0 - 1e-12
+    assert run.max_penetration < 1e-9
+    for f_n, f_t in zip(run.contact_forces, run.friction_forces, strict=True):
+        assert np.all(f_n >= 0.0)
+        # (+ rounding: |f_t| up to 2e-12 N at f_n = 0 beside normal forces of ~30 N)
+        assert np.all(np.abs(f_t) <= 0.5 * f_n * (1 + 1e-9) + 1e-13 * f_n.max(initial=1.0))
+
+
+def test_a_cut_trial_ends_at_a_frame_and_the_step_goes_on(monkeypatch):
+    """A block sliding down a 30 degree incline with mu = 0.3 (scenes/block_on_incline.toml),
+    stepped with every trial longer than 0.3 ms refused as a Painleve configuration would be:
+    each step is cut into sub-steps of at most 0.3 ms, each from a frame, and the block still
+    slides as the exact solution says, s = a t^2 / 2 along the slope with a = g (sin 30 -
+    mu cos 30) (RK4 integrates a constant acceleration exactly)."""
+    world = runtime.World(
+        runtime.load_scene(Path(__file__).parents[2] / "scenes/block_on_incline.toml")
+    )
+    stepper, spans = world.stepper, []
+    trajectory = stepper.trajectory
+
+    def refusing(problem, q, v, h, a0):
+        if h > 3e-4:
+            raise painleve(np.array([0.3]), np.array([1.0]))
+        spans.append(h)
+        return trajectory(problem, q, v, h, a0)
+
+    monkeypatch.setattr(stepper, "trajectory", refusing)
+    start = world.poses[1, :2].copy()
+    for _ in range(10):
+        world.step(1e-3)
+    a = 9.81 * (np.sin(np.pi / 6) - 0.3 * np.cos(np.pi / 6))
+    s = 0.5 * a * world.t**2
+    slope = np.array([np.cos(np.pi / 6), np.sin(np.pi / 6)])
+    np.testing.assert_allclose(world.poses[1, :2], start - s * slope, atol=1e-13)
+    assert abs(world.t - 0.01) < 1e-15
+    assert max(spans) <= 3e-4 and len(spans) >= 40  # every millisecond in four sub-steps or more

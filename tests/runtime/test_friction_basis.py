@@ -12,6 +12,7 @@
 from __future__ import annotations
 
 import itertools
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -146,3 +147,61 @@ def test_a_frictional_pile_keeps_coulombs_law_at_every_step(discs, held_first_fr
     assert (True in held) == held_first_frame
     assert False not in held
     assert np.all(np.abs(run.velocities[-1]) < 1e-6)  # it stays at rest
+
+
+def _island(name: str) -> dict:
+    return dict(np.load(Path(__file__).parent / "data" / name))
+
+
+_INPUTS = "jac tangent_jac ends bias tangent_bias mu slide inv_mass fixed free_acc".split()
+
+
+def _solved(island: dict, solve):
+    """``solve`` (friction_lcp.solve_held, or solve_island less its last two arguments) on a
+    copy of the island: (status, normal, tangent, slack, acc)."""
+    k = island["mu"].size
+    normal, tangent, slack, a_t, rates = (np.zeros(k) for _ in range(5))
+    acc = island["free_acc"].copy()
+    args = [island[name].copy() for name in _INPUTS] + [normal, tangent, slack, a_t, rates, acc]
+    status = solve(*args, island["flags"].copy())
+    return status, normal, tangent, slack, acc
+
+
+def _island_solve(hold_first: bool):
+    return lambda *args: friction_lcp.solve_island(*args, hold_first, settings.LEMKE_COVERS)
+
+
+def _rates(island: dict, rows: np.ndarray, acc: np.ndarray) -> np.ndarray:
+    """J acc over each row's two bodies (numpy, apart from friction_lcp)."""
+    ends = island["ends"]
+    return np.einsum("kc,kc->k", rows[:, :3], acc[ends[:, 0]]) + np.einsum(
+        "kc,kc->k", rows[:, 3:], acc[ends[:, 1]]
+    )
+
+
+def test_an_island_that_can_be_held_is_held_not_moved():
+    """An island of 19 sticking contacts (13 discs) of the falling 30-disc pile with mu = 1 at a
+    frame in its first second: its friction LCP has a solution (Lemke's method, or the
+    remembered basis, finds it) in which a contact slips at ~2 m/s^2, and one with every
+    contact held, d'' = 0 and a_t = 0 with forces in the cones. The held one is taken
+    (runtime.solve.friction_lcp._moves: a body its contacts can hold stays at rest)."""
+    island = _island("friction_held_island.npz")
+    mu = island["mu"]
+    status, normal, tangent, slack, acc = _solved(island, _island_solve(hold_first=False))
+    assert status == lemke.SOLVED
+    moving = _rates(island, island["jac"], acc) + island["bias"]
+    assert moving.max() > 1.0 or slack.max() > 1.0  # it opens or slips a contact
+    assert _solved(island, _island_solve(hold_first=True))[0] == friction_lcp.MOVES
+    held, normal, tangent, slack, acc = _solved(island, friction_lcp.solve_held)
+    assert held
+    scale = (
+        np.abs(island["bias"]).max()
+        + np.abs(_rates(island, island["jac"], island["free_acc"])).max()
+    )
+    np.testing.assert_allclose(
+        _rates(island, island["jac"], acc) + island["bias"], 0.0, atol=1e-9 * scale
+    )
+    a_t = _rates(island, island["tangent_jac"], acc) + island["tangent_bias"]
+    np.testing.assert_allclose(a_t, 0.0, atol=1e-9 * scale)
+    assert normal.min() >= 0.0
+    assert np.all(np.abs(tangent) <= mu * normal * (1 + 1e-9) + 1e-13 * normal.max())

@@ -487,7 +487,7 @@ class Stepper:
             events += 1
             if events > settings.MAX_EVENTS:
                 raise RuntimeError(f"more than {settings.MAX_EVENTS} events within one step")
-            if not split or np.unique(labels[labels >= 0]).size <= 1:  # one island: sub-step
+            if not split or cut or np.unique(labels[labels >= 0]).size <= 1:  # sub-step all
                 island = min(firsts, key=firsts.get)
                 tau = firsts[island]
                 _listed(report, lifts, island, tau).append(t0 + elapsed + tau)
@@ -504,9 +504,6 @@ class Stepper:
                     (q, frame.margin), t0 + elapsed + tau,
                 )  # fmt: skip
                 new_q[members], new_v[members] = q_i[members], v_i[members]
-            if cut:
-                q, v, elapsed = new_q, new_v, elapsed + span
-                continue
             return new_q, new_v
 
     def _trial(self, resting: RestingSolution, q, v, h: float):

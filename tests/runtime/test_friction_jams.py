@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import runtime
 from bench.scenes import falling_pile
@@ -168,12 +169,14 @@ def test_a_pile_whose_trial_meets_a_painleve_configuration_goes_on():
         assert np.all(np.abs(f_t) <= 0.5 * f_n * (1 + 1e-9) + 1e-13 * f_n.max(initial=1.0))
 
 
-def test_a_cut_trial_ends_at_a_frame_and_the_step_goes_on(monkeypatch):
+@pytest.mark.parametrize("searched", [False, True])
+def test_a_cut_trial_ends_at_a_frame_and_the_step_goes_on(searched, monkeypatch):
     """A block sliding down a 30 degree incline with mu = 0.3 (scenes/block_on_incline.toml),
     stepped with every trial longer than 0.3 ms refused as a Painleve configuration would be:
     each step is cut into sub-steps of at most 0.3 ms, each from a frame, and the block still
     slides as the exact solution says, s = a t^2 / 2 along the slope with a = g (sin 30 -
-    mu cos 30) (RK4 integrates a constant acceleration exactly)."""
+    mu cos 30) (RK4 integrates a constant acceleration exactly). The cut trials are quiet, or
+    (``searched``) sent through the event search, which finds nothing."""
     world = runtime.World(
         runtime.load_scene(Path(__file__).parents[2] / "scenes/block_on_incline.toml")
     )
@@ -187,6 +190,8 @@ def test_a_cut_trial_ends_at_a_frame_and_the_step_goes_on(monkeypatch):
         return trajectory(problem, q, v, h, a0)
 
     monkeypatch.setattr(stepper, "trajectory", refusing)
+    if searched:
+        monkeypatch.setattr(stepper, "_quiet", lambda *args: False)
     start = world.poses[1, :2].copy()
     for _ in range(10):
         world.step(1e-3)

@@ -20,6 +20,7 @@ class FrictionStage:
     evaluator: object  # runtime.solve.friction_rows.FrictionRowEvaluator
     forces: object  # runtime.solve.friction.FrictionalForces
     events: object  # runtime.step.friction_events.FrictionEvents
+    inconsistent: type  # runtime.solve.friction_lcp.FrictionInconsistent: no forces obey the modes
 
     def hold(self, frame, resting, bodies, solve):
         """The settled frame with its sticking contacts' residual slip removed
@@ -41,11 +42,11 @@ def friction_stage(scene, fixed: np.ndarray, stabilisation, collision) -> Fricti
         return None
     # imported here: a frictionless scene never loads them (nor the generated friction rows)
     from runtime.solve.friction import FrictionalForces
+    from runtime.solve.friction_lcp import FrictionInconsistent
     from runtime.solve.friction_rows import FrictionRowEvaluator
     from runtime.step.friction_events import FrictionEvents
 
     evaluator = FrictionRowEvaluator(scene.contact_cases(), fixed, scene.friction)
     forces = FrictionalForces(scene, stabilisation)
-    return FrictionStage(
-        evaluator, forces, FrictionEvents(evaluator, forces, fixed, collision.refresh_ovals)
-    )
+    events = FrictionEvents(evaluator, forces, fixed, collision.refresh_ovals)
+    return FrictionStage(evaluator, forces, events, FrictionInconsistent)

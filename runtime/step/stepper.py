@@ -43,7 +43,6 @@ from runtime.collide.contact_keys import find, key_set, member
 from runtime.collide.features import features
 from runtime.compiled import Bound
 from runtime.solve.forces import ContactForces, ForceProblem, ForceSolution, Stabilisation
-from runtime.solve.friction_lcp import FrictionInconsistent
 from runtime.solve.islands import body_islands, contact_islands
 from runtime.solve.rows import RowEvaluator, Rows
 from runtime.step.classify import LIFTING, RESTING, Bodies, Frame, Limits, make_frame
@@ -513,11 +512,12 @@ class Stepper:
         one at t = 0.672 s, 19 of 21 contacts sliding), over the longest span h / 2^k whose
         stages are solved (settings.TRIAL_CUTS halvings at most; the frame's own forces were)."""
         span = h
+        refused = () if self.friction is None else self.friction.inconsistent
         for _ in range(settings.TRIAL_CUTS):
             try:
                 trial = self.trajectory(resting.problem, q, v, span, resting.accelerations)
                 return trial, span, trial.at(span)
-            except FrictionInconsistent:
+            except refused:
                 span /= 2
         trial = self.trajectory(resting.problem, q, v, span, resting.accelerations)
         return trial, span, trial.at(span)

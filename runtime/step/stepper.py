@@ -513,14 +513,14 @@ class Stepper:
         stages are solved (settings.TRIAL_CUTS halvings at most; the frame's own forces were)."""
         span = h
         refused = () if self.friction is None else self.friction.inconsistent
-        for _ in range(settings.TRIAL_CUTS):
+        for cuts in range(settings.TRIAL_CUTS + 1):
             try:
                 trial = self.trajectory(resting.problem, q, v, span, resting.accelerations)
                 return trial, span, trial.at(span)
             except refused:
+                if cuts == settings.TRIAL_CUTS:
+                    raise
                 span /= 2
-        trial = self.trajectory(resting.problem, q, v, span, resting.accelerations)
-        return trial, span, trial.at(span)
 
     def _quiet(
         self, q, end, frame: Frame, resting: RestingSolution, h: float, lifting: bool = False

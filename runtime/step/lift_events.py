@@ -107,6 +107,9 @@ class LiftEvents:
                 f, a, diagonal = state(t)
                 return float(f[k]) if f[k] > 0.0 else -float(a[k]) / float(diagonal[k])
 
+            # still pressing at the earliest lift-off so far (its state cached): it lifts later
+            if earliest is not None and g(earliest) > 0.0:
+                continue
             t = _illinois(g, 0.0, h, g(0.0), g(h), settings.LIFT_TIME * h)
             earliest = t if earliest is None else min(earliest, t)
         return earliest

@@ -67,6 +67,27 @@ def test_lemkes_basis_solves_its_problem_and_a_nearby_one(seed):
     np.testing.assert_allclose(again, reference, rtol=1e-10, atol=1e-12)
 
 
+def test_lemkes_basis_is_taken_again_beside_a_contact_without_force():
+    """The friction LCP of a 36-contact island of the falling 20-disc pile with mu = 0.5 at
+    rest (t = 0.606 s): a contact carries no force, so the rows of its cone and slack have
+    terms of rounding size only (< 1e-12 of the largest). Measured by those terms alone, Lemke's
+    own final basis was refused as a warm start (w = -1e-16 N against a row scale of 1e-16),
+    and Lemke's method ran again at every solve: a resting pile cost 16 ms a step instead of 1.
+    The basis is taken again, its z Lemke's, and z solves the LCP (numpy)."""
+    data = _island("friction_unloaded_basis.npz")
+    M, q = data["M"], data["q"]
+    z, basic = _lemke(M, q)
+    np.testing.assert_array_equal(basic, data["basic"])
+    own = np.abs(q) + np.abs(M) @ z  # each row's scale from its own terms
+    assert own[basic].min() < 1e-12 * own.max()
+    again = np.full(q.size, np.nan)
+    assert friction_lcp.from_basis(M, q, basic, again)
+    np.testing.assert_allclose(again, z, rtol=0, atol=1e-12 * z.max())
+    w = M @ again + q
+    assert again.min() >= 0.0 and w.min() >= -1e-12 * own.max()
+    assert np.abs(again * w).max() <= 1e-12 * own.max() * again.max()
+
+
 @pytest.mark.parametrize("seed", range(12))
 def test_a_basis_not_the_solutions_is_refused(seed):
     M, q, _ = _p_matrix_problem(seed)

@@ -5,6 +5,7 @@ chatter (coupled slips stopping and restarting ~1e-9 s apart)."""
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -13,8 +14,9 @@ import runtime
 from bench.scenes import falling_pile
 from bench.steps import pile_scene
 from runtime import settings
-from runtime.solve import lemke
-from runtime.solve.friction_lcp import painleve
+from runtime.solve import friction, lemke
+from runtime.solve.friction_lcp import FrictionInconsistent, painleve
+from runtime.solve.friction_rows import FrictionRows
 
 DATA = Path(__file__).parent / "data"
 
@@ -77,7 +79,6 @@ def test_only_a_slip_along_its_sliding_direction_is_located_as_it_stops():
     at s = -1 against its residual v_t = +1.85e-4 m/s (below the raised stick speed; its
     acceleration -0.10 m/s^2 chose the direction) has s v_t < 0 from the start, and was found
     to stop at once, at every restart. A slip that does stop is located where v0 + a t = 0."""
-    from types import SimpleNamespace
 
     from runtime.step.friction_events import FrictionEvents
 
@@ -87,6 +88,32 @@ def test_only_a_slip_along_its_sliding_direction_is_located_as_it_stops():
     along = SimpleNamespace(slide=np.array([1]))
     t = FrictionEvents._slip_to_stick(None, along, _linear_slip(2e-3, -100.0), h)
     assert t is not None and abs(t - 2e-5) < 1e-9 * h + 1e-12 / 100.0
+
+
+def test_the_earliest_of_several_stopping_slips_is_located():
+    """An island's first slip -> stick is the earliest of its sliding contacts' stops. They are
+    taken by their linear guesses, and a contact still sliding its way at the earliest stop
+    found so far is not located (it stops later); one that has stopped by then is. Here the
+    first guess misleads: v_t = v0 (1 - 3 t / h)^3 guesses 0.11 h but stops at h / 3, and a
+    linear slip stopping at 0.2 h is the earliest; a third stopping at 0.9 h is passed over."""
+    from runtime.step.friction_events import FrictionEvents
+
+    h, v0 = 1e-3, 2e-3
+    stops = np.array([h / 3, 0.2 * h, 0.9 * h])
+    asked = []
+
+    def state(t: float):
+        asked.append(t)
+        v = np.array([v0 * (1 - 3 * t / h) ** 3, v0 * (1 - t / stops[1]), v0 * (1 - t / stops[2])])
+        a = np.array([-9 * v0 / h * (1 - 3 * t / h) ** 2, -v0 / stops[1], -v0 / stops[2]])
+        return v, a, np.zeros(3, bool)
+
+    t = FrictionEvents._slip_to_stick(None, SimpleNamespace(slide=np.ones(3)), state, h)
+    assert t is not None and abs(t - stops[1]) < 1e-12 * h + 1e-12 / (v0 / stops[1])
+    # the third contact's stop was not searched: no instant inside the step near it was asked
+    assert not any(abs(x - stops[2]) < 0.1 * h for x in asked if 0.0 < x < h)
+    alone = FrictionEvents._slip_to_stick(None, SimpleNamespace(slide=np.eye(3)[2]), state, h)
+    assert abs(alone - stops[2]) < 1e-12 * h + 1e-12 / (v0 / stops[2])
 
 
 def _assert_solves(M, q, z):
@@ -126,6 +153,45 @@ def test_where_a_failure_would_end_the_run_lemke_tries_more_covering_vectors():
     status = lemke.lemke_perturbed(M, q, z, basic, settings.LEMKE_COVERS_LAST)
     assert status == lemke.SOLVED
     _assert_solves(M, q, z)
+
+
+def test_a_frame_whose_island_sticks_everywhere_tries_the_last_covering_vectors():
+    """A frame of the falling 20-disc pile with mu = 0.5 (t = 0.645 s): one island of 38
+    contacts, every one sticking (its slides, at |v_t| <= 1.9e-4 m/s, stuck as slow). It cannot
+    be held, and none of the first settings.LEMKE_COVERS covering vectors solves its friction
+    LCP; with nothing left to stick, that failure would end the run, so the modes' decision
+    (runtime.solve.friction.FrictionalForces) tries the LEMKE_COVERS_LAST of a final solve.
+    The forces found obey the contact and Coulomb conditions (numpy, from the rows)."""
+    data = np.load(DATA / "friction_all_sticking.npz")
+    rows = FrictionRows(**{name: data[name] for name in FrictionRows.__dataclass_fields__})
+    m = rows.mu.size
+    forces = friction.FrictionalForces(_with_friction(falling_pile(20), 0.5))
+    forces.stick_speed = 2e-4  # every contact sticks at first
+    problem = SimpleNamespace(offsets=data["offsets"], basis=np.zeros(m, np.int8), slide=None)
+    with pytest.raises(FrictionInconsistent):
+        forces._solve(problem, rows, np.zeros(m), final=False)
+    problem.basis[:] = 0
+    solution = forces.solve(problem, rows)
+    acc, f_n, f_t = solution.accelerations, solution.forces, solution.tangent_forces
+    b1, b2 = rows.body1, rows.body2
+
+    def rates(jac, bias):
+        return (jac[:, :3] * acc[b1]).sum(1) + (jac[:, 3:] * acc[b2]).sum(1) + bias
+
+    d2, a_t = rates(rows.jacobian, rows.bias), rates(rows.tangent_jacobian, rows.tangent_bias)
+    scale = np.abs(d2).max() + np.abs(a_t).max() + 9.81
+    assert f_n.min() >= 0.0 and d2.min() >= -1e-9 * scale
+    assert np.abs(f_n * d2).max() <= 1e-9 * scale * f_n.max()
+    limit, slide = 0.5 * f_n, problem.slide
+    assert np.all(np.abs(f_t) <= limit * (1 + 1e-9) + 1e-13 * f_n.max())
+    sticks = slide == 0
+    inside = sticks & (np.abs(f_t) < limit * (1 - 1e-6))
+    np.testing.assert_allclose(a_t[inside], 0.0, atol=1e-9 * scale)
+    assert np.all(f_t[sticks] * a_t[sticks] <= 1e-9 * scale * f_n.max())  # it opposes a slip
+    # a contact that slides (from rest: v_t ~ 0) takes mu f_n against its way and moves that way
+    np.testing.assert_allclose(f_t[~sticks], -slide[~sticks] * limit[~sticks], rtol=1e-12)
+    assert np.all(slide[~sticks] * a_t[~sticks] >= -1e-9 * scale)
+    assert (~sticks).any()  # it is not held: something slips
 
 
 def test_a_path_that_meets_a_basis_again_ends_there(monkeypatch):

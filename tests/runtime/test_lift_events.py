@@ -89,3 +89,30 @@ def test_contacts_at_rest_do_not_lift():
         assert len(run.lift_times) == 0, name
     run = runtime.simulate(runtime.load_scene(SCENES / "disc_over_cylinder.toml"), 1.5, 1e-3)
     assert len(run.lift_times) == 0 and sum(len(c) == 0 for c in run.contacts) > 500
+
+
+def test_the_earliest_of_several_lift_offs_is_located():
+    """An island's first lift-off is the earliest of its contacts'. A contact still pressing at
+    the earliest lift-off found so far lifts later and is not located; one that has lifted by
+    then is. Three contacts whose force F (or, once it is 0, -d'' / A_kk) falls to 0 at h / 3
+    (as (1 - 3 t / h)^3: found first), 0.2 h and 0.9 h (linearly): 0.2 h, and nothing inside
+    the step near 0.9 h is asked."""
+    from types import SimpleNamespace
+
+    from runtime import settings
+    from runtime.step.lift_events import LiftEvents
+
+    h = 1e-3
+    lifts = np.array([h / 3, 0.2 * h, 0.9 * h])
+    asked = []
+
+    def state(t: float):
+        asked.append(t)
+        F = np.array([(1 - 3 * t / h) ** 3, 1 - t / lifts[1], 1 - t / lifts[2]])
+        diagonal = np.full(3, 2.0)
+        return np.maximum(F, 0.0), np.maximum(-F, 0.0) * diagonal, diagonal
+
+    events = LiftEvents(SimpleNamespace(resting_speed=1e-3))
+    t = events._earliest(state, np.ones(3, bool), h)
+    assert t is not None and lifts[1] <= t <= lifts[1] + settings.LIFT_TIME * h
+    assert not any(abs(x - lifts[2]) < 0.1 * h for x in asked if 0.0 < x < h)

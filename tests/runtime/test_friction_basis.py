@@ -68,24 +68,50 @@ def test_lemkes_basis_solves_its_problem_and_a_nearby_one(seed):
 
 
 def test_lemkes_basis_is_taken_again_beside_a_contact_without_force():
-    """The friction LCP of a 36-contact island of the falling 20-disc pile with mu = 0.5 at
-    rest (t = 0.606 s): a contact carries no force, so the rows of its cone and slack have
+    """The friction LCP of a 37-contact island of the falling 20-disc pile with mu = 0.5 at
+    rest (t = 0.611 s): a contact carries no force, so the rows of its cone and slack have
     terms of rounding size only (< 1e-12 of the largest). Measured by those terms alone, Lemke's
     own final basis was refused as a warm start (w = -1e-16 N against a row scale of 1e-16),
     and Lemke's method ran again at every solve: a resting pile cost 16 ms a step instead of 1.
-    The basis is taken again, its z Lemke's, and z solves the LCP (numpy)."""
-    data = _island("friction_unloaded_basis.npz")
-    M, q = data["M"], data["q"]
+    solve_island's warm start takes the basis, its z Lemke's, and z solves the LCP (numpy)."""
+    island = _island("friction_unloaded_basis.npz")
+    args = [island[name] for name in _INPUTS]
+    M, q, stick = friction_lcp.island_lcp(*args, np.zeros(island["mu"].size))
     z, basic = _lemke(M, q)
-    np.testing.assert_array_equal(basic, data["basic"])
+    np.testing.assert_array_equal(basic, island["basic"])
     own = np.abs(q) + np.abs(M) @ z  # each row's scale from its own terms
     assert own[basic].min() < 1e-12 * own.max()
+    assert not friction_lcp._complementary(M, q, z, basic, settings.LCP_SHARP)  # so measured
+    jac, tangent_jac, ends, bias, tangent_bias, mu, slide = args[:7]
+    folded = friction_lcp._folded(jac, tangent_jac, mu, slide)
+    rows = (jac, tangent_jac, ends, folded, stick, mu, island["inv_mass"], island["fixed"])
     again = np.full(q.size, np.nan)
-    assert friction_lcp.from_basis(M, q, basic, again)
-    np.testing.assert_allclose(again, z, rtol=0, atol=1e-12 * z.max())
+    k = mu.size
+    assert friction_lcp._warm(rows, bias, tangent_bias, island["free_acc"], q[:k].copy(), basic,
+                              again)  # fmt: skip
+    np.testing.assert_allclose(again, z, rtol=0, atol=1e-10 * z.max())  # (Lemke: 2e-12)
     w = M @ again + q
     assert again.min() >= 0.0 and w.min() >= -1e-12 * own.max()
     assert np.abs(again * w).max() <= 1e-12 * own.max() * again.max()
+
+
+def test_lemkes_forces_are_solved_again_on_its_final_basis():
+    """A 38-contact island of the falling 20-disc pile with mu = 0.5 (t = 0.662 s), every
+    contact sticking: the end of Lemke's path solves the LCP to its own check (1e-9), but the
+    tableau's rounding leaves sticking contacts up to 3.8e-9 N (1.3e-10 of the largest force)
+    outside their cones, and friction of 2e-10 N at contacts without normal force. solve_island solves Lemke's final
+    basis again by one factorization: every friction force in its cone to rounding."""
+    island = _island("friction_lemke_rounding.npz")
+    args = [island[name] for name in _INPUTS]
+    M, q, stick = friction_lcp.island_lcp(*args, np.zeros(island["mu"].size))
+    k, s = island["mu"].size, stick.size
+    z, _ = _lemke(M, q)
+    outside = z[k : k + s] + z[k + s : k + 2 * s] - island["mu"][stick] * z[stick]
+    assert outside.max() > 1e-11 * z.max()  # Lemke's tableau, as it ends
+    status, normal, tangent, _, _ = _solved(island, _island_solve(hold_first=False))
+    assert status == lemke.SOLVED
+    mu = island["mu"]
+    assert np.all(np.abs(tangent) <= mu * normal + 1e-13 * normal.max())
 
 
 @pytest.mark.parametrize("seed", range(12))
@@ -168,6 +194,50 @@ def test_a_frictional_pile_keeps_coulombs_law_at_every_step(discs, held_first_fr
     assert (True in held) == held_first_frame
     assert False not in held
     assert np.all(np.abs(run.velocities[-1]) < 1e-6)  # it stays at rest
+
+
+@pytest.mark.parametrize(("discs", "mu", "seed"), [(12, 0.5, 0), (12, 0.5, 1), (8, 0.3, 2)])
+def test_the_warm_start_without_the_matrix_is_the_matrixs(discs, mu, seed):
+    """solve_island tries a remembered basis without forming the LCP's matrix (n^2 entries,
+    1.9 % of them non-zero in a packed 100-disc pile's island): M_BB entry by entry, w = M z + q
+    from the accelerations, each row's scale bounded term by term. On a packed pile's island,
+    its contacts sticking or, at random, sliding: every entry is island_lcp's to the bit, w is
+    M z + q to rounding, the scales bound |q| + |M| e, and on Lemke's basis the z is
+    from_basis's to the bit."""
+    world = runtime.World(_frictional_pile(discs, mu))
+    world.step(1e-3)
+    stepper, rng = world.stepper, np.random.default_rng(seed)
+    contacts = world.contacts
+    labels = np.zeros(len(contacts), dtype=int)  # one island: the packed pile
+    problem = stepper.forces.problem(contacts, labels, stepper.collision.keys(contacts))
+    rows = stepper.evaluator.rows(problem.contacts, world.poses, world.velocities, False)
+    m = len(rows.mu)
+    slide = np.where(rng.random(m) < 0.3 * seed, rng.choice([-1.0, 1.0], m), 0.0)
+    ends = np.ascontiguousarray(np.column_stack([rows.body1, rows.body2]))
+    f = stepper.forces
+    args = (rows.jacobian, rows.tangent_jacobian, ends, rows.bias, rows.tangent_bias, rows.mu,
+            slide, f.inverse_mass, f.fixed, f.free_acceleration)  # fmt: skip
+    M, q, stick = friction_lcp.island_lcp(*args, np.zeros(m))
+    island = (*args[:3], friction_lcp._folded(rows.jacobian, rows.tangent_jacobian, rows.mu, slide),
+              stick, rows.mu, f.inverse_mass, f.fixed)  # fmt: skip
+    n = q.size
+    np.testing.assert_array_equal(friction_lcp._basis_matrix(island, np.arange(n)), M)
+    some = np.flatnonzero(rng.random(n) < 0.4)
+    np.testing.assert_array_equal(friction_lcp._basis_matrix(island, some), M[np.ix_(some, some)])
+    z = np.abs(rng.normal(size=n)) * (rng.random(n) < 0.5)
+    w = friction_lcp._residuals(island, rows.bias, rows.tangent_bias, f.free_acceleration, z)
+    np.testing.assert_allclose(w, M @ z + q, rtol=0, atol=1e-14 * np.abs(M @ z + q).max())
+    e = np.abs(rng.normal(size=n))
+    k = m
+    scales = friction_lcp._scales(island, q[:k], q[k : k + stick.size], e)
+    exact = np.abs(q) + np.abs(M) @ e
+    assert np.all(scales >= exact * (1 - 1e-12)) and np.all(scales <= 4 * exact)
+    z, basic = _lemke(M, q)
+    by_matrix, without = np.zeros(n), np.zeros(n)
+    assert friction_lcp.from_basis(M, q, basic, by_matrix)
+    assert friction_lcp._warm(island, rows.bias, rows.tangent_bias, f.free_acceleration,
+                              q[:k].copy(), basic, without)  # fmt: skip
+    np.testing.assert_array_equal(without, by_matrix)
 
 
 def _island(name: str) -> dict:

@@ -291,6 +291,12 @@ def test_brackets_catch_crossings_dips_and_returns():
     [b] = brackets([0.0], [2e-3], [-1e-6], [-8e-3], [True])
     assert b.kind == events.RETURN and 0 < b.lo < b.guess < h
     assert brackets([1e-3], [1.0], [2e-3], [1.0], [False]) == []
+    # a touching contact that closes from the start (taken as lifting or separating, it sinks:
+    # a falling 30-disc pile with mu = 1), from d > 0 or from d <= 0: the whole step
+    a = 0.85
+    for g0 in (4.3e-8, -5e-14):
+        [b] = brackets([g0], [0.0], [g0 - 0.5 * a * h * h], [-a * h], [True])
+        assert b.kind == events.SINK and (b.lo, b.hi) == (0.0, h)
 
 
 # -- bouncing ball -------------------------------------------------------------------------------

@@ -238,6 +238,18 @@ def test_the_warm_start_without_the_matrix_is_the_matrixs(discs, mu, seed):
     assert friction_lcp._warm(island, rows.bias, rows.tangent_bias, f.free_acceleration,
                               q[:k].copy(), basic, without)  # fmt: skip
     np.testing.assert_array_equal(without, by_matrix)
+    refused = 0
+    for i in range(n):  # another basis: refused, unless it solves the LCP too (degenerate)
+        wrong, z = basic.copy(), np.zeros(n)
+        wrong[i] = not wrong[i]
+        if friction_lcp._warm(island, rows.bias, rows.tangent_bias, f.free_acceleration,
+                              q[:k].copy(), wrong, z):  # fmt: skip
+            w = M @ z + q
+            assert z.min() >= 0.0 and w.min() >= -1e-9 * exact.max()
+            assert np.abs(z * w).max() <= 1e-9 * exact.max() * max(z.max(), 1.0)
+        else:
+            refused += 1
+    assert refused > n // 2
 
 
 def _island(name: str) -> dict:

@@ -31,9 +31,10 @@ def test_a_jammed_island_sticks_and_the_pile_goes_on():
     """The falling 30-disc pile with mu = 1 stopped at t = 0.219 s: the island's LCP with its two
     sliding contacts has no solution (a mixed-integer search over its 22 unknowns found none).
     Its sliding contacts now stick (their slip removed by the hold impulse), and the run goes on
-    with Coulomb's law at every record and no overlap."""
-    run = runtime.simulate(_with_friction(falling_pile(30), 1.0), duration=0.3, dt=1e-3)
-    assert run.t[-1] >= 0.3 - 1e-12
+    with Coulomb's law at every record and no overlap. (At t = 0.449 s its slips chatter: more
+    than settings.MAX_EVENTS transitions in one step without settings.CHATTER's rule.)"""
+    run = runtime.simulate(_with_friction(falling_pile(30), 1.0), duration=0.5, dt=1e-3)
+    assert run.t[-1] >= 0.5 - 1e-12
     assert run.max_penetration < 1e-9
     for f_n, f_t in zip(run.contact_forces, run.friction_forces, strict=True):
         assert np.all(f_n >= 0.0)

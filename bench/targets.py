@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import importlib.util
 import math
 import os
 import time
@@ -149,6 +150,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args(argv)
+    if importlib.util.find_spec("pymunk") is None:  # the figures are ratios to pymunk's
+        parser.error("pymunk is needed: pip install -e '.[peers]' (make bench installs it)")
     load = os.getloadavg()[0]
     started = time.perf_counter()
     b = bowl(args.quick)

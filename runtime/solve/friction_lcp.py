@@ -267,7 +267,8 @@ def _block(i, k, s):
 @njit
 def _basis_matrix(island, idx):
     """M_BB of :func:`island_lcp`'s matrix for the unknowns ``idx``, entry by entry by
-    _coupling's arithmetic (the same numbers to the bit), without forming M."""
+    :func:`_coupling`'s arithmetic (the same numbers to the bit), without forming M. Its loop is
+    written out here: called per entry, _coupling made this 1.7x slower (inlined by numba, 6x)."""
     jac, tangent_jac, ends, cols, stick, mu, inv_mass, fixed = island
     k, s, p = mu.size, stick.size, idx.size
     block, sub, contact = np.empty(p, np.int64), np.empty(p, np.int64), np.empty(p, np.int64)
@@ -432,8 +433,7 @@ def solve_island(
         polished = np.empty(z.size)
         if _warm(island, bias, tangent_bias, free_acc, rates, basic, polished):
             z[:] = polished
-    if hold_first and _moves(_residuals(island, bias, tangent_bias, free_acc, z), rates, z,
-                             slide, k, s):  # fmt: skip
+    if hold_first and _moves(island, bias, tangent_bias, free_acc, rates, z, slide):
         return MOVES
     write_solution(z, basic, stick, jac, tangent_jac, ends, tangent_bias, mu, slide, inv_mass,
                    normal, tangent, slack, tangent_acc, acc, flags)  # fmt: skip
@@ -452,10 +452,11 @@ def _sticks(slide, k):
 
 
 @njit
-def _moves(w, q, z, slide, k, s):
+def _moves(island, bias, tangent_bias, free_acc, q, z, slide):
     """Whether the LCP solution z of an island whose contacts all stick (no slide) opens a
-    contact (its normal row's w = d'' > 0) or lets one slip (lambda > 0), each above settings.SLIP_ONSET of the
-    island's scale (its largest |b_n|, at least 1, as :func:`island_slips`).
+    contact (its normal row's w = d'' > 0) or lets one slip (lambda > 0), each above
+    settings.SLIP_ONSET of the island's scale (its largest |b_n| -- ``q``, at least 1, as
+    :func:`island_slips`).
 
     Why: with friction an island's LCP can have more than one solution, and where the island
     can be held (the forces of a solution with every contact held lie in the cones), that
@@ -466,8 +467,10 @@ def _moves(w, q, z, slide, k, s):
     An island of one contact is left to Lemke's solution: the question arises only where
     contacts share bodies, and asking it there cost a falling 20-disc pile with mu = 0.5 ~400
     linear programs (0.4 s of its 2.5 s), none of which held."""
+    k, s = slide.size, island[4].size
     if not _sticks(slide, k):
         return False
+    w = _residuals(island, bias, tangent_bias, free_acc, z)  # only for an island that sticks
     tol = 1.0
     for i in range(k):
         tol = max(tol, abs(q[i]))

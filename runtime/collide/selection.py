@@ -9,7 +9,9 @@ here the generated kernels' gaps decide, per pair of bodies:
   end at most CONE_SLACK beyond its arc; a vertex in a closed body 2 inside it (its way out not
   positive) and not much deeper than its shallowest way out (WAY_OUT_MARGIN), unless nothing
   better describes the overlap: implausible candidates go only if the pair has a plausible
-  penetration;
+  penetration -- but never where the way out is 0 within rounding: a vertex on body 2's
+  boundary is not inside it (a half disc's corner on a box's side, 1e-13 outside, was a
+  contact 0.01 deep against the box's top);
 - against a closed body, a body-1 feature with a contact at a larger gap loses its penetrating
   ones (only its shallowest stays);
 - one constraint reported twice (from both bodies: two corners meeting; or from two parts of
@@ -70,10 +72,12 @@ def _admit(k, gap, tol, body, body1, body2, cand, plausible):
     b2 = body2[k]
     vertex = cand[k, CASE] == VERTEX_EDGE or cand[k, CASE] == VERTEX_CIRCLE
     if vertex and body[b2, CLOSED] > 0:
-        out = cand[k, WAY_OUT]
-        if out > INSIDE_EPS * body[b2, HALF_WIDTH]:
+        out, rounding = cand[k, WAY_OUT], INSIDE_EPS * body[b2, HALF_WIDTH]
+        if out > rounding:
             return False
         plausible[k] = g >= out - WAY_OUT_MARGIN * depth
+        if not plausible[k] and out >= -rounding:
+            return False  # a vertex on body 2's boundary: no depth beyond its way out
     return True
 
 

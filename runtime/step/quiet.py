@@ -24,7 +24,9 @@ says "quiet" only where every test the search and the step make is clear with ro
   form (:func:`least_gap_in_flight`): above the floor at every instant, neither a dip nor a
   fast pair needs the search -- a disc flying off a cylinder, a ball falling past a floor;
 * no watched pair of a body with several features (a corner, an arc's ends) closed in, whose
-  pair the search asks the contact finder again.
+  pair the search asks the contact finder again; and no resting contact of such a body moved
+  (more than the touch gap), whose island the search asks again (it may slide off its
+  feature onto the next).
 
 Anything else goes to the search, which decides as before: the check only skips work whose
 outcome is known, so a quiet step is the same step, to the bit.
@@ -211,6 +213,11 @@ def is_quiet(
     ):  # fmt: skip
         return False
     m = case.size
+    for k in range(m):
+        i, j = body1[k], body2[k]
+        if modes[k] == RESTING and (switches[i] or switches[j]):
+            if moved(q0, q1, radii, i) + moved(q0, q1, radii, j) > touch:
+                return False
     watched = 0
     for k in range(m):
         if modes[k] == OPEN or modes[k] == SEPARATING or modes[k] == LIFTING:

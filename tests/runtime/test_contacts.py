@@ -276,6 +276,22 @@ def test_penetrating_corner_keeps_only_its_shallowest_way_out_of_a_closed_body()
     assert c.feature == (("vertex", 0), ("edge", 1)) and c.gap == pytest.approx(-0.01)
 
 
+def test_corner_on_a_box_side_is_not_deep_under_its_top():
+    """A half disc's corner on a box's side, 0.01 below its top: 1e-13 outside, no contact at
+    tolerance 0 (it was one 0.01 deep against the top, which locked the bodies together in a
+    pile); 1e-13 inside, the side's contact at -1e-13. At either angle of the pair."""
+    box = shapes.polygon([(-0.05, -0.04), (0.05, -0.04), (0.05, 0.04), (-0.05, 0.04)])
+    hd = shapes.half_disc(0.06).centred()[0]
+    corner = np.asarray(hd.edges[0].start)  # the flat side's left end
+    for th in (0.0, -0.5233):
+        for out, expected in ((1e-13, []), (-1e-13, [(("vertex", 0), ("edge", 1), -1e-13)])):
+            centre = rot(th, np.array([0.05 + out, 0.03]) - corner)
+            found = find([box, hd], [[0, 0, th], [*centre, th]], [False, False], tol=0.0)
+            assert [(*c.feature, c.gap) for c in found] == [
+                (a, b, pytest.approx(g, abs=1e-16)) for a, b, g in expected
+            ]
+
+
 # -- kernels ---------------------------------------------------------------------------------
 
 

@@ -494,12 +494,15 @@ def test_disc_slides_off_a_rounded_apex_onto_the_straight_side():
     top of the apex arc at 0.3 m/s, follows the arc (it would leave only at 47.4 degrees) to its
     end point at 45 degrees and slides on down the straight side (circle_circle -> circle_edge).
 
-    During the step that crosses the join the arc still holds the disc, so it ends up to
-    d0 = v^2 dt^2 / (2L) inside the straight side, approaching at up to v^2 dt / L, which a
-    plastic impulse removes (at most m (v^2 dt / L)^2 / 2). Asserted: energy change and
-    penetration within those worst cases (5.7e-4 J, 3.0e-6 m); the penetration does not grow
-    afterwards (by more than N ulp(1), N steps on the side); on the side the disc accelerates at g sin 45 along it to 1e-9
-    m/s^2 and has no normal velocity (1e-12 m/s).
+    The arc's contact is held on its whole circle, which beyond the join runs inside the
+    straight side: were the switch left to the next step's contacts, the disc would end up to
+    d0 = v^2 dt^2 / (2L) inside the side (3.0e-6 m; it was 9.6e-8 m here), approaching at up
+    to v^2 dt / L. The event search finds the side touching in the step that crosses the join
+    and locates it (runtime.step.events: a resting contact slid off its feature). Asserted: no
+    penetration beyond the touch gap; the energy change within the plastic impulse's worst
+    case m (v^2 dt / L)^2 / 2 (5.7e-4 J); the penetration does not grow afterwards (by more
+    than N ulp(1), N steps on the side); on the side the disc accelerates at g sin 45 along it
+    to 1e-9 m/s^2 and has no normal velocity (1e-12 m/s).
     """
     size, rc, r, v0, dt = 1.0, 0.2, 0.1, 0.3, 1e-3
     length, turn = rc + r, math.pi / 4
@@ -521,7 +524,8 @@ def test_disc_slides_off_a_rounded_apex_onto_the_straight_side():
     energy = np.array(run.energy)
     _check("arc -> flat: energy change (J)", np.max(np.abs(energy - energy[0])), mass * vn**2 / 2)
     gaps = np.array([smallest_gap(scene, [p]) for p in run.poses[k:]])
-    _check("arc -> flat: penetration (m)", -np.min(gaps), d0)
+    assert d0 > 1e3 * TOUCH  # (what the located switch saves)
+    _check("arc -> flat: penetration (m)", -np.min(gaps), TOUCH)
     # positions ~0.7 m round by ulp(1)/2 per step: at most N ulp(1) over the N steps on the side
     _check("arc -> flat: penetration growth (m)", np.ptp(gaps), len(gaps) * ulp(1.0))
     t = np.array(run.t[k + 1 :])
@@ -694,3 +698,21 @@ def test_an_impact_located_on_the_step_end_finishes_the_step():
     v0, v1 = run.velocities[0, 1], run.velocities[-1, 1]
     assert v1[0] == pytest.approx(v0[0], rel=1e-12)
     assert abs(v1[1]) <= 1e-9 * abs(v0[1])
+
+
+def test_mixed_bodies_falling_into_a_v_do_not_sink_into_each_other():
+    """30 bodies of every shape (discs, boxes, rounded boxes, half discs, ellipses) falling into
+    a V, 0.4 s of World.step: at t = 0.392 s an ellipse resting on a rounded box's corner arc
+    slid on past the arc's end and went 4.6e-6 m into the box's side, unlocated (a resting
+    contact is held on its feature's whole circle). Asserted after every step, by the contact
+    finder: no overlap beyond 1e-7 m -- resting contacts on curves may drift settings.DRIFT of
+    g dt^2 / 2 (4.9e-9 m) a step before a frame holds them again: 2.0e-8 m at most here."""
+    from bench.scenes import mixed_bodies
+
+    scene = mixed_bodies(30)
+    world = runtime.World(scene)
+    deepest = 0.0
+    for _ in range(400):
+        world.step(1e-3)
+        deepest = max(deepest, penetration(scene, [world.poses]))
+    _check("mixed bodies in a V: deepest overlap (m)", deepest, 1e-7)

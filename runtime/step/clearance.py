@@ -21,10 +21,13 @@ from runtime.collide.contact_set import EDGE, END, VERTEX
 from runtime.collide.features import (
     A_INDEX,
     A_R,
+    A_SPAN,
+    A_START,
     ARCS,
     C_INDEX,
     CORNERS,
     E_INDEX,
+    ELLIPSES,
     ENDS,
     HALF_WIDTH,
     L_A,
@@ -32,6 +35,8 @@ from runtime.collide.features import (
     L_INDEX,
     S_INDEX,
     S_LENGTH,
+    S_NX,
+    S_NY,
     S_TX,
     S_TY,
     SEGMENTS,
@@ -157,4 +162,88 @@ def clear(i, j, q0, q1, margin, radii, depths, touch, rows, body_start, body1, b
     return True
 
 
-__all__ = ["clear", "deepest", "moved"]
+@leaf
+def _row_of(rows, body_start, body, kind, index):
+    """(table kind, row) of feature ``kind``, ``index`` (a contact's key) of ``body``."""
+    first, last = (CORNERS, CORNERS) if kind == VERTEX else (ENDS, ENDS) if kind == END else (
+        SEGMENTS, ELLIPSES)  # fmt: skip
+    for t in range(first, last + 1):
+        column = (C_INDEX, E_INDEX, S_INDEX, A_INDEX, L_INDEX)[t]
+        for r in range(body_start[body, t], body_start[body + 1, t]):
+            if rows[r, column] == index:
+                return t, r
+    return -1, -1
+
+
+@leaf
+def _world(pose, x, y):
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return pose[0] + c * x - s * y, pose[1] + s * x + c * y
+
+
+@leaf
+def _room(rows, t, r, pose, other_t, other_r, other_pose):
+    """How far inside its ends feature (t, r) (a straight edge, by length; an arc, by arc
+    length) holds its contact with feature (other_t, other_r) at these poses; inf for features
+    without ends, -inf where the other's position is unknown (an ellipse's contact point)."""
+    if t != SEGMENTS and t != ARCS:
+        return math.inf
+    if other_t == ELLIPSES:
+        return -math.inf
+    ox, oy = _world(other_pose, rows[other_r, X], rows[other_r, Y])  # a point or a centre
+    if t == SEGMENTS:
+        if other_t == SEGMENTS:
+            return math.inf  # (no contact case joins two straight edges)
+        ax, ay = _world(pose, rows[r, X], rows[r, Y])
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        tx, ty = c * rows[r, S_TX] - s * rows[r, S_TY], s * rows[r, S_TX] + c * rows[r, S_TY]
+        u = (ox - ax) * tx + (oy - ay) * ty
+        return min(u, rows[r, S_LENGTH] - u)
+    if rows[r, A_SPAN] >= 2.0 * math.pi:
+        return math.inf
+    cx, cy = _world(pose, rows[r, X], rows[r, Y])
+    if other_t == SEGMENTS:  # the arc touches the line where its normal opposes the line's
+        c, s = math.cos(other_pose[2]), math.sin(other_pose[2])
+        nx, ny = rows[other_r, S_NX], rows[other_r, S_NY]
+        dx, dy = -(c * nx - s * ny), -(s * nx + c * ny)
+    else:  # towards the other's point or centre -- away from it if that is a concave arc's
+        flip = -1.0 if other_t == ARCS and rows[other_r, A_R] < 0.0 else 1.0
+        dx, dy = flip * (ox - cx), flip * (oy - cy)
+    turn = (math.atan2(dy, dx) - pose[2] - rows[r, A_START]) % (2.0 * math.pi)
+    span = rows[r, A_SPAN]
+    return abs(rows[r, A_R]) * min(turn, span - turn) if turn <= span else -math.inf
+
+
+@leaf
+def may_slide_off(k, q0, q1, radii, switches, body1, body2, feature, rows, body_start, touch):
+    """Whether resting contact k may have run off the end of one of its features by ``q1``
+    (the step's end; from ``q0``): a resting contact is held on its feature's whole line or
+    circle, so past the end it would be held there while the next feature (a rounded box's
+    side after its corner arc) closes in unwatched. Not if neither body has several features
+    or they moved less than the touch gap, or if at q1 each feature still holds the contact
+    (the other feature's point, or circle's centre, within the segment's ends or the arc's
+    span): a step's short smooth path does not leave a feature and come back."""
+    i, j = body1[k], body2[k]
+    if not (switches[i] or switches[j]):
+        return False
+    if not moved(q0, q1, radii, i) + moved(q0, q1, radii, j) > touch:
+        return False
+    ti, ri = _row_of(rows, body_start, i, feature[k, 0], feature[k, 1])
+    tj, rj = _row_of(rows, body_start, j, feature[k, 2], feature[k, 3])
+    if ri < 0 or rj < 0:
+        return True
+    room = min(_room(rows, ti, ri, q1[i], tj, rj, q1[j]), _room(rows, tj, rj, q1[j], ti, ri, q1[i]))
+    return not room > 0.0
+
+
+@njit
+def sliding_off(q0, q1, radii, switches, resting, body1, body2, feature, rows, body_start, touch):
+    """:func:`may_slide_off` for each contact of ``resting`` (indices): a bool per one."""
+    out = np.zeros(resting.size, np.bool_)
+    for a in range(resting.size):
+        out[a] = may_slide_off(resting[a], q0, q1, radii, switches, body1, body2, feature, rows,
+                               body_start, touch)  # fmt: skip
+    return out
+
+
+__all__ = ["clear", "deepest", "may_slide_off", "moved", "sliding_off"]

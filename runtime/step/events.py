@@ -441,30 +441,31 @@ class EventSearch:
 
     def _slid_off(self, frame, start, h, best, island_of_body, trajectory) -> dict[int, set]:
         """{island: pairs} that touch at the trial's end (or the island's earliest impact) at a
-        feature the frame did not have, penetrating, where a resting contact of a body with
-        several features moved. Why: a resting contact is held on its feature's whole curve,
-        and sliding past the feature's end it is held there while the next feature (a rounded
-        box's side after its corner arc) closes in unwatched -- an ellipse went 4.6e-6 m into a
-        box's side so. One contact search per such island, at the instant the search ends."""
-        rest = frame.resting
+        feature the frame did not have, penetrating, where a resting contact may have run off
+        the end of its feature (runtime.step.clearance.may_slide_off). Why: a resting contact
+        is held on its feature's whole line or circle, and past the feature's end it is held
+        there while the next feature (a rounded box's side after its corner arc) closes in
+        unwatched -- an ellipse went 4.6e-6 m into a box's side so. One contact search per
+        such island, at the instant the search ends."""
+        c, rest = frame.contacts, frame.resting
+        rest = rest[self.switches[c.body1[rest]] | self.switches[c.body2[rest]]]
         if rest.size == 0:
             return {}
-        b1, b2 = frame.contacts.body1[rest], frame.contacts.body2[rest]
-        switching = self.switches[b1] | self.switches[b2]
-        if not switching.any():
-            return {}
-        one, two = island_of_body[b1[switching]], island_of_body[b2[switching]]
+        one, two = island_of_body[c.body1[rest]], island_of_body[c.body2[rest]]
+        island = np.where(one >= 0, one, two)
+        tables = self.collider.finder.tables
         known = set(frame.keys.tolist())
         out: dict[int, set] = {}
-        for g in np.unique(np.where(one >= 0, one, two)).tolist():
-            members = island_of_body == g
+        for g in np.unique(island).tolist():
             q = trajectory(g).at(best.get(g, h))[0]
-            shift = (
-                np.hypot(*(q[:, :2] - start[:, :2]).T) + np.abs(q[:, 2] - start[:, 2]) * self.radii
-            )
-            if not np.any(shift[members] > self.touch):
+            sliding = clearance.sliding_off(
+                start, q, self.radii, self.switches, rest[island == g], c.body1, c.body2,
+                c.feature, tables.rows, tables.body_start, self.touch,
+            )  # fmt: skip
+            if not sliding.any():
                 continue
-            found = self.collider.finder.find(q, 0.0, None, members | self.collider.fixed)
+            members = (island_of_body == g) | self.collider.fixed
+            found = self.collider.finder.find(q, 0.0, None, members)
             keys = self.collider.keys(found).tolist()
             for k in np.flatnonzero(found.gap < -self.touch).tolist():
                 if keys[k] not in known:

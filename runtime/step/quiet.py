@@ -24,9 +24,9 @@ says "quiet" only where every test the search and the step make is clear with ro
   form (:func:`least_gap_in_flight`): above the floor at every instant, neither a dip nor a
   fast pair needs the search -- a disc flying off a cylinder, a ball falling past a floor;
 * no watched pair of a body with several features (a corner, an arc's ends) closed in, whose
-  pair the search asks the contact finder again; and no resting contact of such a body moved
-  (more than the touch gap), whose island the search asks again (it may slide off its
-  feature onto the next).
+  pair the search asks the contact finder again; and no resting contact of such a body may
+  have run off the end of its feature (runtime.step.clearance.may_slide_off), whose island the
+  search asks again.
 
 Anything else goes to the search, which decides as before: the check only skips work whose
 outcome is known, so a quiet step is the same step, to the bit.
@@ -45,7 +45,7 @@ from runtime.collide.candidates import CIRCLE_CIRCLE, CIRCLE_EDGE
 from runtime.compiled import leaf, njit
 from runtime.solve.kernel_set import by_case, gaps_by_case
 from runtime.step.classify import LIFTING, OPEN, RESTING, SEPARATING
-from runtime.step.clearance import clear, moved
+from runtime.step.clearance import clear, may_slide_off, moved
 from runtime.step.events import cubic_roots, hermite_coefficients
 
 SLACK = 1e-9  # relative: the room a distance test keeps, for rounding of the NumPy twins
@@ -214,10 +214,9 @@ def is_quiet(
         return False
     m = case.size
     for k in range(m):
-        i, j = body1[k], body2[k]
-        if modes[k] == RESTING and (switches[i] or switches[j]):
-            if moved(q0, q1, radii, i) + moved(q0, q1, radii, j) > touch:
-                return False
+        if modes[k] == RESTING and may_slide_off(k, q0, q1, radii, switches, body1, body2,
+                                                 feature, rows, body_start, touch):  # fmt: skip
+            return False
     watched = 0
     for k in range(m):
         if modes[k] == OPEN or modes[k] == SEPARATING or modes[k] == LIFTING:

@@ -25,6 +25,9 @@ from runtime.collide.features import (
     A_START,
     ARCS,
     C_INDEX,
+    C_NX,
+    C_NY,
+    C_WIDTH,
     CORNERS,
     E_INDEX,
     ELLIPSES,
@@ -44,6 +47,7 @@ from runtime.collide.features import (
     Y,
 )  # fmt: skip
 from runtime.compiled import leaf, njit
+from runtime.settings import SPAN_EPS
 
 SLACK = 1e-9  # relative: the room the distance test keeps for rounding
 
@@ -186,6 +190,8 @@ def _room(rows, t, r, pose, other_t, other_r, other_pose):
     """How far inside its ends feature (t, r) (a straight edge, by length; an arc, by arc
     length) holds its contact with feature (other_t, other_r) at these poses; inf for features
     without ends, -inf where the other's position is unknown (an ellipse's contact point)."""
+    if t == CORNERS:
+        return _cone_room(rows, r, pose, other_t, other_r, other_pose)
     if t != SEGMENTS and t != ARCS:
         return math.inf
     if other_t == ELLIPSES:
@@ -215,6 +221,28 @@ def _room(rows, t, r, pose, other_t, other_r, other_pose):
 
 
 @leaf
+def _cone_room(rows, r, pose, other_t, other_r, other_pose):
+    """inf if corner row r still holds its contact with feature (other_t, other_r) at these
+    poses -- the direction to it within the corner's normal cone (up to SPAN_EPS), or the other
+    straight, whose turn onto the corner's next side brings another corner to it, which the
+    frame watches -- else -inf: a side next to the corner may meet a curve (a half disc's corner
+    resting on an ellipse, turning onto its flat side)."""
+    if other_t == SEGMENTS:
+        return math.inf
+    if other_t == ELLIPSES:
+        return -math.inf
+    vx, vy = _world(pose, rows[r, X], rows[r, Y])
+    ox, oy = _world(other_pose, rows[other_r, X], rows[other_r, Y])
+    flip = -1.0 if other_t == ARCS and rows[other_r, A_R] < 0.0 else 1.0  # (a bowl: outwards)
+    ux, uy = flip * (ox - vx), flip * (oy - vy)
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    nx, ny = c * rows[r, C_NX] - s * rows[r, C_NY], s * rows[r, C_NX] + c * rows[r, C_NY]
+    angle = math.atan2(nx * uy - ny * ux, nx * ux + ny * uy) % (2.0 * math.pi)
+    inside = angle <= rows[r, C_WIDTH] + SPAN_EPS or angle >= 2.0 * math.pi - SPAN_EPS
+    return math.inf if inside else -math.inf
+
+
+@leaf
 def may_slide_off(k, q0, q1, radii, switches, body1, body2, feature, rows, body_start, touch):
     """Whether resting contact k may have run off the end of one of its features by ``q1``
     (the step's end; from ``q0``): a resting contact is held on its feature's whole line or
@@ -222,7 +250,9 @@ def may_slide_off(k, q0, q1, radii, switches, body1, body2, feature, rows, body_
     side after its corner arc) closes in unwatched. Not if neither body has several features
     or they moved less than the touch gap, or if at q1 each feature still holds the contact
     (the other feature's point, or circle's centre, within the segment's ends or the arc's
-    span): a step's short smooth path does not leave a feature and come back."""
+    span; the direction to it within a corner's normal cone): a step's short smooth path does
+    not leave a feature and come back. An ellipse's contact point is not known here: a contact
+    on one may always have slid."""
     i, j = body1[k], body2[k]
     if not (switches[i] or switches[j]):
         return False

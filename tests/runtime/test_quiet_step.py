@@ -234,3 +234,90 @@ def test_the_least_gap_in_free_flight_is_the_parabolas_least_distance():
     off_centre = [0.05, 0.0, 0.1, 0.0, 0.0, 0.5, 0.0]  # a circle that turns with its body
     assert _least("circle_circle", off_centre, [-1.0, 0.65, 0, 0, 0, 0], [1, 0, 0, 0, 0, 0],
                   [0] * 6, [False, True], 1.0) == -np.inf  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("turn", "expected"),
+    [(0.25, False), (0.75, False), (1.0 + 1e-6, True), (-1e-6, True)],
+)
+def test_a_resting_contact_past_its_arcs_end_may_slide_off(turn, expected):
+    """A disc (r = 0.1) on the top-right corner arc (centre (0.3, 0.3), radius 0.2, spanning
+    0 to 90 degrees) of a fixed rounded box, at the start at 45 degrees: at the end its centre
+    at ``turn`` x 90 degrees about the arc's centre -- within the span it stays on the arc,
+    beyond either end it may have slid onto a side (clearance.may_slide_off); unmoved, never."""
+    from runtime.step.clearance import sliding_off
+
+    block = {"type": "rounded_rect", "width": 1.0, "height": 1.0, "corner_radius": 0.2}
+    scene = runtime.scene_from_dict(
+        {
+            "body": [
+                {"name": "block", "fixed": True, "shape": block},
+                {
+                    "name": "disc",
+                    "shape": {"type": "disc", "radius": 0.1},
+                    "mass": 1.0,
+                    "position": [0.5, 0.6],
+                },
+            ]
+        },
+        source="corner",
+    )
+
+    def at(fraction):
+        phi = fraction * math.pi / 2
+        return np.array([[0, 0, 0], [0.3 + 0.3 * math.cos(phi), 0.3 + 0.3 * math.sin(phi), 0]])
+
+    q0, q1 = at(0.5), at(turn)
+    stepper = Stepper(scene)
+    contacts = stepper.collision.finder.find(q0, 1e-9)
+    assert [contacts.case_name(k) for k in range(len(contacts))] == ["circle_circle"]
+    tables = stepper.collision.finder.tables
+    switches = np.array([True, False])
+
+    def slides(end):
+        return bool(
+            sliding_off(q0, end, stepper.radii, switches, np.array([0]), contacts.body1,
+                        contacts.body2, contacts.feature, tables.rows, tables.body_start, 1e-9)[0]
+        )  # fmt: skip
+
+    assert slides(q1) == expected
+    assert not slides(q0)
+
+
+@pytest.mark.parametrize(("turn", "expected"), [(0.0, False), (0.5, False), (-0.5, False),
+                                                (0.9, True), (-0.9, True)])  # fmt: skip
+def test_a_resting_corner_turned_out_of_its_cone_may_slide_off(turn, expected):
+    """A square (side 0.2) standing on its corner on top of a fixed cylinder (r = 0.5), the
+    corner's normal cone (90 degrees) centred on the way down: turned about that corner by
+    ``turn`` rad, the way to the cylinder's centre stays in the cone up to 45 degrees; beyond,
+    a side next to the corner may meet the cylinder (clearance.may_slide_off)."""
+    from runtime.step.clearance import sliding_off
+
+    square = {"type": "polygon", "points": [[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]]}
+    scene = runtime.scene_from_dict(
+        {
+            "body": [
+                {"name": "cylinder", "fixed": True, "shape": {"type": "disc", "radius": 0.5},
+                 "position": [0.0, 0.0]},
+                {"name": "square", "shape": square, "mass": 1.0, "position": [0.0, 1.0]},
+            ]
+        },
+        source="corner on a cylinder",
+    )  # fmt: skip
+    half = 0.1 * math.sqrt(2)
+
+    def at(extra):
+        th = math.pi / 4 + extra  # corner 0 at (0, -half) turned by extra about the corner
+        return np.array([[0, 0, 0], [-half * math.sin(extra), 0.5 + half * math.cos(extra), th]])
+
+    q0 = at(0.0)
+    stepper = Stepper(scene)
+    contacts = stepper.collision.finder.find(q0, 1e-9)
+    assert [contacts.case_name(k) for k in range(len(contacts))] == ["vertex_circle"]
+    tables = stepper.collision.finder.tables
+    moved = at(turn)
+    moved[1, :2] += 1e-6 * (turn == 0.0)  # (unturned: moved along, still in its cone)
+    found = sliding_off(q0, moved, stepper.radii, np.array([False, True]), np.array([0]),
+                        contacts.body1, contacts.body2, contacts.feature, tables.rows,
+                        tables.body_start, 1e-9)  # fmt: skip
+    assert bool(found[0]) == expected

@@ -9,6 +9,10 @@ near. A lower bound on the distance of each feature pair at the start, against h
 bodies can move (their margins) and how deep a contact the finder admits, proves it in one
 compiled loop, and the search and the quiet check skip such pairs -- the same outcome, as no
 sample could have found a contact there.
+
+The same question for a resting contact (:func:`may_slide_off`): it is held on its feature's
+whole line or circle, so it can run past the feature's end while the next feature closes in;
+where it may have, the quiet check declines and the search asks the contact finder.
 """
 
 from __future__ import annotations

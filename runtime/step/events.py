@@ -333,8 +333,8 @@ class EventSearch:
             slid = self._slid_off(frame, start, h, {}, island_of_body, trajectory)
             return self._join(meets, {}, slid, set(), set(frame.keys.tolist()), {}, trajectory, h)
         contacts = frame.contacts.take(watched)
-        # an oval's contact point moves over it: d at the end from its point found there (the
-        # frame's osculating circle missed an ellipse meeting a box's side 4.6e-6 m deep)
+        # an oval's contact point moves over it: d at the end from its point found there, as
+        # every other gap of an oval contact in the search (not the frame's osculating circle)
         ends = self.collider.refresh_ovals(contacts, trial_end[0])
         g1, v1 = self.evaluator.gap_and_rate(ends, *trial_end)
         g0, v0 = frame.rows.gap[watched], frame.rows.gap_velocity[watched]

@@ -72,13 +72,36 @@ def moved(q0, q1, radii, i):
 
 
 @leaf
+def _turned(angle, x, y):
+    """The vector (x, y) of a body turned by ``angle``: in world axes."""
+    c, s = math.cos(angle), math.sin(angle)
+    return c * x - s * y, s * x + c * y
+
+
+@leaf
+def _world(pose, x, y):
+    """The point (x, y) of a body at ``pose``: in world coordinates."""
+    dx, dy = _turned(pose[2], x, y)
+    return pose[0] + dx, pose[1] + dy
+
+
+@leaf
+def _towards(rows, t, r, pose, x, y):
+    """The direction from the world point (x, y) to feature (t, r)'s point or centre at
+    ``pose`` -- away from it where that is a concave arc's centre (a bowl: its wall lies beyond
+    the point, seen from its centre)."""
+    ox, oy = _world(pose, rows[r, X], rows[r, Y])
+    flip = -1.0 if t == ARCS and rows[r, A_R] < 0.0 else 1.0
+    return flip * (ox - x), flip * (oy - y)
+
+
+@leaf
 def _feature(rows, kind, r, pose):
     """Feature row r of kind ``kind`` (runtime.collide.features) on a body at ``pose``: its kind
     and index as in a contact's key, and what holds it in world coordinates -- a segment
     (``straight``, from (x0, y0) to (x1, y1)), or an annulus about (x0, y0) between radii
     ``inner`` and ``outer`` (a corner or end: radius 0; an arc: its whole circle; an ellipse:
     between its semi-axes)."""
-    c, s = math.cos(pose[2]), math.sin(pose[2])
     x, y, inner, outer, straight = rows[r, X], rows[r, Y], 0.0, 0.0, False
     ex, ey = x, y
     if kind == CORNERS:
@@ -94,8 +117,8 @@ def _feature(rows, kind, r, pose):
     else:
         key, index = EDGE, rows[r, L_INDEX]
         inner, outer = min(rows[r, L_A], rows[r, L_B]), max(rows[r, L_A], rows[r, L_B])
-    x0, y0 = pose[0] + c * x - s * y, pose[1] + s * x + c * y
-    x1, y1 = pose[0] + c * ex - s * ey, pose[1] + s * ex + c * ey
+    x0, y0 = _world(pose, x, y)
+    x1, y1 = _world(pose, ex, ey)
     return key, index, straight, x0, y0, x1, y1, inner, outer
 
 
@@ -184,12 +207,6 @@ def _row_of(rows, body_start, body, kind, index):
 
 
 @leaf
-def _world(pose, x, y):
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    return pose[0] + c * x - s * y, pose[1] + s * x + c * y
-
-
-@leaf
 def _room(rows, t, r, pose, other_t, other_r, other_pose):
     """How far inside its ends feature (t, r) (a straight edge, by length; an arc, by arc
     length) holds its contact with feature (other_t, other_r) at these poses; inf for features
@@ -200,25 +217,22 @@ def _room(rows, t, r, pose, other_t, other_r, other_pose):
         return math.inf
     if other_t == ELLIPSES:
         return -math.inf
-    ox, oy = _world(other_pose, rows[other_r, X], rows[other_r, Y])  # a point or a centre
     if t == SEGMENTS:
         if other_t == SEGMENTS:
             return math.inf  # (no contact case joins two straight edges)
         ax, ay = _world(pose, rows[r, X], rows[r, Y])
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        tx, ty = c * rows[r, S_TX] - s * rows[r, S_TY], s * rows[r, S_TX] + c * rows[r, S_TY]
+        ox, oy = _world(other_pose, rows[other_r, X], rows[other_r, Y])  # a point or a centre
+        tx, ty = _turned(pose[2], rows[r, S_TX], rows[r, S_TY])
         u = (ox - ax) * tx + (oy - ay) * ty
         return min(u, rows[r, S_LENGTH] - u)
     if rows[r, A_SPAN] >= 2.0 * math.pi:
         return math.inf
-    cx, cy = _world(pose, rows[r, X], rows[r, Y])
     if other_t == SEGMENTS:  # the arc touches the line where its normal opposes the line's
-        c, s = math.cos(other_pose[2]), math.sin(other_pose[2])
-        nx, ny = rows[other_r, S_NX], rows[other_r, S_NY]
-        dx, dy = -(c * nx - s * ny), -(s * nx + c * ny)
-    else:  # towards the other's point or centre -- away from it if that is a concave arc's
-        flip = -1.0 if other_t == ARCS and rows[other_r, A_R] < 0.0 else 1.0
-        dx, dy = flip * (ox - cx), flip * (oy - cy)
+        nx, ny = _turned(other_pose[2], rows[other_r, S_NX], rows[other_r, S_NY])
+        dx, dy = -nx, -ny
+    else:
+        cx, cy = _world(pose, rows[r, X], rows[r, Y])
+        dx, dy = _towards(rows, other_t, other_r, other_pose, cx, cy)
     turn = (math.atan2(dy, dx) - pose[2] - rows[r, A_START]) % (2.0 * math.pi)
     span = rows[r, A_SPAN]
     return abs(rows[r, A_R]) * min(turn, span - turn) if turn <= span else -math.inf
@@ -236,11 +250,8 @@ def _cone_room(rows, r, pose, other_t, other_r, other_pose):
     if other_t == ELLIPSES:
         return -math.inf
     vx, vy = _world(pose, rows[r, X], rows[r, Y])
-    ox, oy = _world(other_pose, rows[other_r, X], rows[other_r, Y])
-    flip = -1.0 if other_t == ARCS and rows[other_r, A_R] < 0.0 else 1.0  # (a bowl: outwards)
-    ux, uy = flip * (ox - vx), flip * (oy - vy)
-    c, s = math.cos(pose[2]), math.sin(pose[2])
-    nx, ny = c * rows[r, C_NX] - s * rows[r, C_NY], s * rows[r, C_NX] + c * rows[r, C_NY]
+    ux, uy = _towards(rows, other_t, other_r, other_pose, vx, vy)
+    nx, ny = _turned(pose[2], rows[r, C_NX], rows[r, C_NY])
     angle = math.atan2(nx * uy - ny * ux, nx * ux + ny * uy) % (2.0 * math.pi)
     inside = angle <= rows[r, C_WIDTH] + SPAN_EPS or angle >= 2.0 * math.pi - SPAN_EPS
     return math.inf if inside else -math.inf

@@ -34,6 +34,9 @@ from runtime.collide.features import (
     C_WIDTH,
     CORNERS,
     E_INDEX,
+    E_NX,
+    E_NY,
+    E_SIDE,
     ELLIPSES,
     ENDS,
     HALF_WIDTH,
@@ -206,13 +209,31 @@ def _row_of(rows, body_start, body, kind, index):
     return -1, -1
 
 
+LEAVE = 2.0 * SPAN_EPS  # rad, and relative length: a resting contact has left its feature
+# when the other feature lies this far beyond its end -- twice the contact finder's closure of
+# spans and ends, so at that instant the finder picks the next feature, not this one again
+
+
+@leaf
+def _signed(turn, span):
+    """How far the angle ``turn`` (in [0, 2 pi)) lies inside [0, span] (rad; negative: how far
+    outside, to the nearer end) -- continuous, so a root search can find where it leaves."""
+    if turn <= span:
+        return min(turn, span - turn)
+    return -min(turn - span, 2.0 * math.pi - turn)
+
+
 @leaf
 def _room(rows, t, r, pose, other_t, other_r, other_pose):
-    """How far inside its ends feature (t, r) (a straight edge, by length; an arc, by arc
-    length) holds its contact with feature (other_t, other_r) at these poses; inf for features
-    without ends, -inf where the other's position is unknown (an ellipse's contact point)."""
+    """How far inside its ends, widened by LEAVE, feature (t, r) holds its contact with feature
+    (other_t, other_r) at these poses (negative: beyond them): a straight edge by length, an
+    arc by arc length, a corner's cone and a smooth end by angle (only the sign is compared,
+    and it changes continuously); inf for features without ends, -inf where the other's
+    position is unknown (an ellipse's contact point)."""
     if t == CORNERS:
         return _cone_room(rows, r, pose, other_t, other_r, other_pose)
+    if t == ENDS:
+        return _end_room(rows, r, pose, other_r, other_pose)
     if t != SEGMENTS and t != ARCS:
         return math.inf
     if other_t == ELLIPSES:
@@ -224,7 +245,7 @@ def _room(rows, t, r, pose, other_t, other_r, other_pose):
         ox, oy = _world(other_pose, rows[other_r, X], rows[other_r, Y])  # a point or a centre
         tx, ty = _turned(pose[2], rows[r, S_TX], rows[r, S_TY])
         u = (ox - ax) * tx + (oy - ay) * ty
-        return min(u, rows[r, S_LENGTH] - u)
+        return min(u, rows[r, S_LENGTH] - u) + LEAVE * rows[r, S_LENGTH]
     if rows[r, A_SPAN] >= 2.0 * math.pi:
         return math.inf
     if other_t == SEGMENTS:  # the arc touches the line where its normal opposes the line's
@@ -233,18 +254,17 @@ def _room(rows, t, r, pose, other_t, other_r, other_pose):
     else:
         cx, cy = _world(pose, rows[r, X], rows[r, Y])
         dx, dy = _towards(rows, other_t, other_r, other_pose, cx, cy)
-    turn = (math.atan2(dy, dx) - pose[2] - rows[r, A_START]) % (2.0 * math.pi)
-    span = rows[r, A_SPAN]
-    return abs(rows[r, A_R]) * min(turn, span - turn) if turn <= span else -math.inf
+    turn = (math.atan2(dy, dx) - pose[2] - rows[r, A_START] + LEAVE) % (2.0 * math.pi)
+    return abs(rows[r, A_R]) * _signed(turn, rows[r, A_SPAN] + 2.0 * LEAVE)
 
 
 @leaf
 def _cone_room(rows, r, pose, other_t, other_r, other_pose):
-    """inf if corner row r still holds its contact with feature (other_t, other_r) at these
-    poses -- the direction to it within the corner's normal cone (up to SPAN_EPS), or the other
-    straight, whose turn onto the corner's next side brings another corner to it, which the
-    frame watches -- else -inf: a side next to the corner may meet a curve (a half disc's corner
-    resting on an ellipse, turning onto its flat side)."""
+    """How far (rad) the direction from corner row r to feature (other_t, other_r) lies inside
+    the corner's normal cone widened by LEAVE: a side next to the corner may meet a curve
+    beyond it (a half disc's corner resting on an ellipse, turning onto its flat side). inf for
+    the other straight, whose turn onto the corner's next side brings another corner to it,
+    which the frame watches."""
     if other_t == SEGMENTS:
         return math.inf
     if other_t == ELLIPSES:
@@ -252,9 +272,41 @@ def _cone_room(rows, r, pose, other_t, other_r, other_pose):
     vx, vy = _world(pose, rows[r, X], rows[r, Y])
     ux, uy = _towards(rows, other_t, other_r, other_pose, vx, vy)
     nx, ny = _turned(pose[2], rows[r, C_NX], rows[r, C_NY])
-    angle = math.atan2(nx * uy - ny * ux, nx * ux + ny * uy) % (2.0 * math.pi)
-    inside = angle <= rows[r, C_WIDTH] + SPAN_EPS or angle >= 2.0 * math.pi - SPAN_EPS
-    return math.inf if inside else -math.inf
+    angle = (math.atan2(nx * uy - ny * ux, nx * ux + ny * uy) + LEAVE) % (2.0 * math.pi)
+    return _signed(angle, rows[r, C_WIDTH] + 2.0 * LEAVE)
+
+
+@leaf
+def _end_room(rows, r, pose, other_r, other_pose):
+    """How far (rad) a smooth end (row r; it touches straight edges only) still faces segment
+    row ``other_r`` from beyond its arc, widened by LEAVE: the contact finder takes it for
+    directions SPAN_EPS to pi / 2 beyond (runtime.collide.corners); turned back onto the arc, a
+    rounded box tipping from its flat side onto its corner, the arc touches instead."""
+    nx, ny = _turned(other_pose[2], rows[other_r, S_NX], rows[other_r, S_NY])
+    ex, ey = _turned(pose[2], rows[r, E_NX], rows[r, E_NY])
+    angle = rows[r, E_SIDE] * math.atan2(nx * ey - ny * ex, -nx * ex - ny * ey)
+    return min(angle - SPAN_EPS, 0.5 * math.pi - angle) + LEAVE
+
+
+@leaf
+def room(k, q, body1, body2, feature, rows, body_start):
+    """The smaller of the rooms (:func:`_room`) of contact k's two features at poses q: <= 0
+    once it has left one of them; -inf if a feature is not in the tables."""
+    i, j = body1[k], body2[k]
+    ti, ri = _row_of(rows, body_start, i, feature[k, 0], feature[k, 1])
+    tj, rj = _row_of(rows, body_start, j, feature[k, 2], feature[k, 3])
+    if ri < 0 or rj < 0:
+        return -math.inf
+    return min(_room(rows, ti, ri, q[i], tj, rj, q[j]), _room(rows, tj, rj, q[j], ti, ri, q[i]))
+
+
+@njit
+def rooms(contacts, q, body1, body2, feature, rows, body_start):
+    """:func:`room` of each contact of ``contacts`` (indices) at poses q."""
+    out = np.empty(contacts.size)
+    for a in range(contacts.size):
+        out[a] = room(contacts[a], q, body1, body2, feature, rows, body_start)
+    return out
 
 
 @leaf
@@ -262,23 +314,18 @@ def may_slide_off(k, q0, q1, radii, switches, body1, body2, feature, rows, body_
     """Whether resting contact k may have run off the end of one of its features by ``q1``
     (the step's end; from ``q0``): a resting contact is held on its feature's whole line or
     circle, so past the end it would be held there while the next feature (a rounded box's
-    side after its corner arc) closes in unwatched. Not if neither body has several features
-    or they moved less than the touch gap, or if at q1 each feature still holds the contact
-    (the other feature's point, or circle's centre, within the segment's ends or the arc's
-    span; the direction to it within a corner's normal cone): a step's short smooth path does
-    not leave a feature and come back. An ellipse's contact point is not known here: a contact
-    on one may always have slid."""
+    side after its corner arc) closes in unwatched, or the next feature would take it (a disc
+    rolling off a flat face onto a corner's arc, held up on the face's line). Not if neither
+    body has several features or they moved less than the touch gap, or if at q1 each feature
+    still holds the contact (:func:`room`): a step's short smooth path does not leave a
+    feature and come back. An ellipse's contact point is not known here: a contact on one may
+    always have slid."""
     i, j = body1[k], body2[k]
     if not (switches[i] or switches[j]):
         return False
     if not moved(q0, q1, radii, i) + moved(q0, q1, radii, j) > touch:
         return False
-    ti, ri = _row_of(rows, body_start, i, feature[k, 0], feature[k, 1])
-    tj, rj = _row_of(rows, body_start, j, feature[k, 2], feature[k, 3])
-    if ri < 0 or rj < 0:
-        return True
-    room = min(_room(rows, ti, ri, q1[i], tj, rj, q1[j]), _room(rows, tj, rj, q1[j], ti, ri, q1[i]))
-    return not room > 0.0
+    return not room(k, q1, body1, body2, feature, rows, body_start) > 0.0
 
 
 @njit
@@ -291,4 +338,4 @@ def sliding_off(q0, q1, radii, switches, resting, body1, body2, feature, rows, b
     return out
 
 
-__all__ = ["clear", "deepest", "may_slide_off", "moved", "sliding_off"]
+__all__ = ["LEAVE", "clear", "deepest", "may_slide_off", "moved", "room", "rooms", "sliding_off"]

@@ -33,6 +33,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from runtime import settings
 from runtime.collide.contact_keys import key_set, member
@@ -330,8 +331,9 @@ class EventSearch:
         )
         watched = frame.monitored
         if watched.size == 0:  # (resting contacts may still slide off their features)
-            slid = self._slid_off(frame, start, h, {}, island_of_body, trajectory)
-            return self._join(meets, {}, slid, set(), set(frame.keys.tolist()), {}, trajectory, h)
+            best: dict[int, float] = {}
+            slid = self._slid_off(frame, start, h, best, island_of_body, trajectory)
+            return self._join(meets, best, slid, set(), set(frame.keys.tolist()), {}, trajectory, h)
         contacts = frame.contacts.take(watched)
         # an oval's contact point moves over it: d at the end from its point found there, as
         # every other gap of an oval contact in the search (not the frame's osculating circle)
@@ -440,13 +442,15 @@ class EventSearch:
         return best
 
     def _slid_off(self, frame, start, h, best, island_of_body, trajectory) -> dict[int, set]:
-        """{island: pairs} that touch at the trial's end (or the island's earliest impact) at a
-        feature the frame did not have, penetrating, where a resting contact may have run off
-        the end of its feature (runtime.step.clearance.may_slide_off). Why: a resting contact
-        is held on its feature's whole line or circle, and past the feature's end it is held
-        there while the next feature (a rounded box's side after its corner arc) closes in
-        unwatched -- an ellipse went 4.6e-6 m into a box's side so. One contact search per
-        such island, at the instant the search ends."""
+        """Where a resting contact may have run off the end of its feature by the trial's end
+        (or its island's earliest impact; runtime.step.clearance.may_slide_off): the instant it
+        left (:meth:`_left`), which becomes its island's event in ``best`` -- the next frame
+        there takes the next feature (a disc rolling off a flat face onto a corner's arc, held
+        up on the face's line, flew off it and landed again) -- or, where that instant is not
+        known (a contact on an ellipse; one at its feature's end from the start), {island:
+        pairs} that touch then at a feature the frame did not have, penetrating (a contact held
+        on an arc's whole circle past its end let a rounded box's side close in unwatched: an
+        ellipse went 4.6e-6 m into it so). One contact search per such island."""
         c, rest = frame.contacts, frame.resting
         rest = rest[self.switches[c.body1[rest]] | self.switches[c.body2[rest]]]
         if rest.size == 0:
@@ -457,12 +461,18 @@ class EventSearch:
         known = set(frame.keys.tolist())
         out: dict[int, set] = {}
         for g in np.unique(island).tolist():
-            q = trajectory(g).at(best.get(g, h))[0]
+            until = best.get(g, h)
+            q = trajectory(g).at(until)[0]
+            mine = rest[island == g]
             sliding = clearance.sliding_off(
-                start, q, self.radii, self.switches, rest[island == g], c.body1, c.body2,
+                start, q, self.radii, self.switches, mine, c.body1, c.body2,
                 c.feature, tables.rows, tables.body_start, self.touch,
             )  # fmt: skip
             if not sliding.any():
+                continue
+            left = self._left(frame, mine[sliding], start, trajectory(g), until)
+            if left is not None:
+                best[g] = left
                 continue
             members = (island_of_body == g) | self.collider.fixed
             found = self.collider.finder.find(q, 0.0, None, members)
@@ -471,6 +481,30 @@ class EventSearch:
                 if keys[k] not in known:
                     out.setdefault(g, set()).add(_pair(found, k))
         return out
+
+    def _left(self, frame, contacts, start, traj, until: float) -> float | None:
+        """The first instant in (0, until] where one of the resting ``contacts`` (indices into
+        the frame) that held at the start has left its feature (runtime.step.clearance.room
+        <= 0: beyond its end by clearance.LEAVE); None if none held at the start. A root of the
+        room, which changes continuously along the trajectory (scipy's brentq), then the first
+        instant past it with room <= 0."""
+        c, tables = frame.contacts, self.collider.finder.tables
+
+        def room(t: float, which: np.ndarray) -> float:
+            q = start if t == 0.0 else traj.at(t)[0]
+            return float(np.min(clearance.rooms(which, q, c.body1, c.body2, c.feature,
+                                                tables.rows, tables.body_start)))  # fmt: skip
+
+        held = contacts[clearance.rooms(contacts, start, c.body1, c.body2, c.feature,
+                                        tables.rows, tables.body_start) > 0.0]  # fmt: skip
+        if held.size == 0 or room(until, held) > 0.0:
+            return None
+        tol = settings.TIME_EPS * np.finfo(float).eps * until
+        t = brentq(room, 0.0, until, args=(held,), xtol=tol)
+        step = tol
+        while t < until and room(t, held) > 0.0:
+            t, step = min(until, t + step), 2.0 * step
+        return t
 
     @staticmethod
     def _islands(contacts, island_of_body: np.ndarray) -> np.ndarray:

@@ -1,7 +1,8 @@
 """`simulate`: a scene run for a duration on a World, recorded step by step into a Run.
 
 The recorded grid is t = k dt, exactly (the last step shortened so the run ends at the duration);
-impacts located inside steps are listed in ``Run.impact_times``, lift-offs in ``Run.lift_times``. Each record holds the state at
+events located inside steps (impacts, friction transitions, a resting contact leaving its feature
+for the next) are listed in ``Run.impact_times``, lift-offs in ``Run.lift_times``. Each record holds the state at
 its time and the contacts resting there (with lifting ones) and their forces, as solved at the
 start of the step that follows (the last record: at the final state).
 
@@ -55,7 +56,7 @@ class Run:
     t (K,), poses and velocities (K, n, 3), energy (K,) (mechanical: kinetic + gravitational),
     momentum (K, 2), min_gap (K,) (smallest gap among the contacts found at each record's time:
     < 0 is a penetration), impact_losses (K,) (kinetic energy taken out by impacts since the
-    record before; 0 at the first), impact_times (I,) (located impacts), lift_times (L,)
+    record before; 0 at the first), impact_times (I,) (located impacts and other events), lift_times (L,)
     (located lift-offs: where a pressing contact's force reached 0 and it moved apart);
     contacts[k] (runtime.collide.contact_set.Contacts) and contact_forces[k] (N): the resting
     contacts at record k and their forces (runtime.app.contact_table gives them as one table);

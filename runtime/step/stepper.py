@@ -85,7 +85,7 @@ class StepReport:
     forces: np.ndarray | None = None  # their forces
     tangent_forces: np.ndarray | None = None  # their friction forces (None: no friction stage)
     joint_forces: np.ndarray | None = None  # the joint rows' forces there
-    impact_times: list[float] = field(default_factory=list)
+    impact_times: list[float] = field(default_factory=list)  # impacts and other located events
     lift_times: list[float] = field(default_factory=list)  # located lift-offs (lift_events)
     impact_loss: float = 0.0
     # its last trial quiet (runtime.step.quiet) and nothing located in the step but lift-offs

@@ -433,14 +433,17 @@ def test_disc_slides_from_a_flat_face_over_a_rounded_corner():
     0.2) onto the corner arc (circle_edge -> circle_circle at the arc's end point) and leaves it
     where cos phi = 2/3 + v0^2 / (3 g L), L = 0.3 (as over a cylinder).
 
-    The switch happens at a step boundary: during the step that crosses the join the flat face
-    still holds the disc, so it ends up d0 = v^2 dt'^2/(2L) above the arc, separating at
-    v^2 dt'/L (dt' <= dt: the part of the step beyond the join), falls back and lands with
-    v_n^2 = (v^2 dt'/L)^2 (1 + a L / v^2), a = g - v^2/L: a plastic impact that costs m v_n^2 / 2
-    (1.3e-4 J of 189 J here, where the join falls on a step boundary, dt' = dt). Asserted: the
-    energy change <= 1.25 x that worst case; the leave angle within 1e-5 rad (the lost energy
-    moves cos phi by 2 dE / (3 m g L), 1.3e-6 rad); while the arc pushes, the distance from its
-    centre within 2 d0 of L; no penetration.
+    The flat face's contact is held on its whole line: were the switch left to the next step's
+    contacts, the step that crosses the join would carry the disc on past it, d0 =
+    v^2 dt'^2/(2L) above the arc, separating at v^2 dt'/L (dt' <= dt: the part of the step
+    beyond the join); it would fall back and land with v_n^2 = (v^2 dt'/L)^2 (1 + a L / v^2),
+    a = g - v^2/L, a plastic impact costing m v_n^2 / 2 (1.3e-4 J of 189 J here, as it did up to
+    session 24). The event search locates the instant the disc's centre passes the face's end
+    (runtime.step.events: a resting contact that left its feature) and the frame there takes
+    the arc. Asserted: the energy change <= 1e-8 J (5e-11 of the energy: no impact, the
+    integrator's error); the leave angle within 1e-5 rad (the angle is interpolated between
+    steps); while the arc pushes, the distance from its centre within the touch gap of L (it
+    was up to d0); no penetration.
     """
     width, height, rc, r, v0, dt = 2.0, 1.0, 0.2, 0.1, 0.5, 1e-3
     length = rc + r
@@ -457,7 +460,8 @@ def test_disc_slides_from_a_flat_face_over_a_rounded_corner():
     a = G - v0**2 / length
     worst = mass * vn**2 * (1 + a * length / v0**2) / 2
     energy = np.array(run.energy)
-    _check("flat -> arc: energy change (J)", np.max(np.abs(energy - energy[0])), 1.25 * worst)
+    assert worst > 1e4 * 1e-8  # what the unlocated switch cost
+    _check("flat -> arc: energy change (J)", np.max(np.abs(energy - energy[0])), 1e-8)
     stepper = Stepper(scene)
     angles, free, radial = [], [], []
     first = cases.index("circle_circle")
@@ -485,7 +489,8 @@ def test_disc_slides_from_a_flat_face_over_a_rounded_corner():
     leave = angles[k - 1] + (angles[k] - angles[k - 1]) * free[k - 1] / (free[k - 1] - free[k])
     predicted = math.acos(2 / 3 + v0**2 / (3 * G * length))
     _check("flat -> arc: leave angle (rad)", abs(leave - predicted), 1e-5)
-    _check("flat -> arc: radial error on the arc (m)", max(radial), 2 * d0)
+    assert d0 > 100 * TOUCH
+    _check("flat -> arc: radial error on the arc (m)", max(radial), TOUCH)
     _check("flat -> arc: penetration (m)", penetration(scene, run.poses), TOUCH)
 
 
@@ -497,12 +502,13 @@ def test_disc_slides_off_a_rounded_apex_onto_the_straight_side():
     The arc's contact is held on its whole circle, which beyond the join runs inside the
     straight side: were the switch left to the next step's contacts, the disc would end up to
     d0 = v^2 dt^2 / (2L) inside the side (3.0e-6 m; it was 9.6e-8 m here), approaching at up
-    to v^2 dt / L. The event search finds the side touching in the step that crosses the join
-    and locates it (runtime.step.events: a resting contact slid off its feature). Asserted: no
-    penetration beyond the touch gap; the energy change within the plastic impulse's worst
-    case m (v^2 dt / L)^2 / 2 (5.7e-4 J); the penetration does not grow afterwards (by more
-    than N ulp(1), N steps on the side); on the side the disc accelerates at g sin 45 along it
-    to 1e-9 m/s^2 and has no normal velocity (1e-12 m/s).
+    to v^2 dt / L, and a plastic impulse would take up to m (v^2 dt / L)^2 / 2 (5.7e-4 J). The
+    event search locates the instant the disc's centre passes the arc's end (runtime.step.events:
+    a resting contact that left its feature) and the frame there takes the side. Asserted: no
+    penetration beyond the touch gap; the energy change <= 1e-8 J (no impact: the integrator's
+    error; it was 8.7e-10 J with the side's impact located, 1.8e-5 J unlocated); the penetration
+    does not grow afterwards (by more than N ulp(1), N steps on the side); on the side the disc
+    accelerates at g sin 45 along it to 1e-9 m/s^2 and has no normal velocity (1e-12 m/s).
     """
     size, rc, r, v0, dt = 1.0, 0.2, 0.1, 0.3, 1e-3
     length, turn = rc + r, math.pi / 4
@@ -522,7 +528,8 @@ def test_disc_slides_off_a_rounded_apex_onto_the_straight_side():
     speed2 = v0**2 + 2 * G * length * (1 - c)  # at the join
     d0, vn = _lag(math.sqrt(speed2), dt, length)
     energy = np.array(run.energy)
-    _check("arc -> flat: energy change (J)", np.max(np.abs(energy - energy[0])), mass * vn**2 / 2)
+    assert mass * vn**2 / 2 > 1e4 * 1e-8  # what a plastic impulse there could cost
+    _check("arc -> flat: energy change (J)", np.max(np.abs(energy - energy[0])), 1e-8)
     gaps = np.array([smallest_gap(scene, [p]) for p in run.poses[k:]])
     assert d0 > 1e3 * TOUCH  # (what the located switch saves)
     _check("arc -> flat: penetration (m)", -np.min(gaps), TOUCH)

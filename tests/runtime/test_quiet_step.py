@@ -321,3 +321,45 @@ def test_a_resting_corner_turned_out_of_its_cone_may_slide_off(turn, expected):
                         contacts.body1, contacts.body2, contacts.feature, tables.rows,
                         tables.body_start, 1e-9)  # fmt: skip
     assert bool(found[0]) == expected
+
+
+@pytest.mark.parametrize(("tilt", "expected"), [(2e-8, False), (1e-8, False), (0.0, False),
+                                                (-1e-8, True), (-0.1, True)])  # fmt: skip
+def test_a_resting_smooth_end_turned_back_onto_its_arc_may_slide_off(tilt, expected):
+    """A rounded box (1 x 0.4, corner radius 0.1) on a floor, tilted 1e-8 rad so that its left
+    corner arc touches and the right end of its flat bottom (a smooth end, where the side runs
+    into the arc) is 8e-9 m above the floor, facing it from beyond its arc: a contact of that
+    end. Turned to ``tilt``: tilted the other way by more than clearance.LEAVE (2e-9 rad), the
+    floor faces the right arc, which takes the contact (clearance.may_slide_off); flat or still
+    tilted left, the end holds."""
+    from runtime.step.clearance import sliding_off
+
+    box = {"type": "rounded_rect", "width": 1.0, "height": 0.4, "corner_radius": 0.1}
+    scene = runtime.scene_from_dict(
+        {
+            "body": [
+                {"name": "floor", "fixed": True,
+                 "shape": {"type": "wall", "start": [-5.0, 0.0], "end": [5.0, 0.0]}},
+                {"name": "box", "shape": box, "mass": 1.0, "position": [0.0, 0.2]},
+            ]
+        },
+        source="rounded box",
+    )  # fmt: skip
+    stepper = Stepper(scene)
+    finder, tables = stepper.collision.finder, stepper.collision.finder.tables
+
+    def at(theta):  # the box tilted by theta, its lowest point on the floor
+        q = np.array([[0.0, 0.0, 0.0], [0.0, 0.2, theta]])
+        q[1, 1] -= min(finder.find(q, 1.0).gap)
+        return q
+
+    q0 = at(1e-8)
+    contacts = finder.find(q0, 1e-7)
+    assert sorted(contacts.case_name(k) for k in range(len(contacts))) == [
+        "circle_edge", "vertex_edge"]  # fmt: skip
+    end = int(np.flatnonzero(contacts.feature[:, 0] == 2)[0])  # the smooth end's contact
+    assert contacts.point[end, 0] > 0 and contacts.gap[end] == pytest.approx(8e-9, rel=1e-3)
+    found = sliding_off(q0, at(tilt), stepper.radii, np.array([False, True]), np.array([end]),
+                        contacts.body1, contacts.body2, contacts.feature, tables.rows,
+                        tables.body_start, 1e-9)  # fmt: skip
+    assert bool(found[0]) == expected

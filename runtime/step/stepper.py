@@ -490,7 +490,7 @@ class Stepper:
                 island = min(firsts, key=firsts.get)
                 tau = firsts[island]
                 _listed(report, lifts, island, tau).append(t0 + elapsed + tau)
-                q, v = trajectory(island).at(tau)
+                q, v = trajectory.everyone_at(island, tau)
                 elapsed += tau
                 continue
             new_q, new_v = end[0].copy(), end[1].copy()
@@ -653,6 +653,21 @@ class _IslandTrajectories:
         self.stepper, self.trial, self.resting = stepper, trial, resting
         self.labels, self.split = labels, split
         self.made: dict[int, Trajectory] = {}
+
+    def everyone_at(self, island: int, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """The state of every body at t, for a sub-step that every island takes (a trial cut
+        short: settings.TRIAL_CUTS): ``island``'s from its own trajectory, where its event was
+        located, the others' from the trial. Its own trajectory alone let the other islands'
+        bodies fall free of their resting contacts for the sub-step (a disc resting on the
+        side of a box spinning at 84 rad/s went 6.3e-7 m into it in 4.7e-5 s so)."""
+        own = self(island)
+        if own is self.trial:
+            return own.at(t)
+        q, v = (np.array(x) for x in self.trial.at(t))
+        q_own, v_own = own.at(t)
+        members = self.labels == island
+        q[members], v[members] = q_own[members], v_own[members]
+        return q, v
 
     def __call__(self, island: int) -> Trajectory:
         if not self.split:

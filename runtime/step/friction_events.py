@@ -28,6 +28,7 @@ import numpy as np
 
 from runtime import settings
 from runtime.solve.friction import FrictionalForces, FrictionProblem
+from runtime.solve.friction_lcp import FrictionInconsistent
 from runtime.solve.friction_rows import FrictionRowEvaluator
 from runtime.step.events import locate
 
@@ -71,11 +72,38 @@ class FrictionEvents:
             members = island == g
             sub = problem.subset(members)
             state = self._state(sub, trajectory(g))
-            times = [self._slip_to_stick(sub, state, h), self._stick_to_slip(sub, state, h)]
-            times = [t for t in times if t is not None]
+            try:
+                times = self._transitions(sub, state, h)
+            except FrictionInconsistent:
+                times = self._inconsistent(sub, state, h)
             if times:
                 found[g] = min(times)
         return found
+
+    def _transitions(self, sub: FrictionProblem, state, h: float) -> list[float]:
+        """The instants in (0, h] of the island's first slip -> stick and stick -> slip."""
+        times = [self._slip_to_stick(sub, state, h), self._stick_to_slip(sub, state, h)]
+        return [t for t in times if t is not None]
+
+    def _inconsistent(self, sub: FrictionProblem, state, h: float) -> list[float]:
+        """Where no forces obey the frame's modes somewhere in the trial (a state its stages did
+        not solve: a 30-body mixed pile with mu = 0.5, 17 contacts sliding, met one at its end
+        at t = 0.49 s and the run stopped): the instant they stop existing, bisected to
+        settings.SLIP_TIME of the step and ending on the side where they do not -- the new frame
+        there decides the modes again (and jams the island if it must: runtime.solve.friction)
+        -- and the transitions before it."""
+        lo, hi = 0.0, h
+        while hi - lo > settings.SLIP_TIME * h:
+            mid = 0.5 * (lo + hi)
+            try:
+                state(mid)
+                lo = mid
+            except FrictionInconsistent:
+                hi = mid
+        try:
+            return [*self._transitions(sub, state, lo), hi]
+        except FrictionInconsistent:  # (not consistent all the way to lo either)
+            return [hi]
 
     def _state(self, sub: FrictionProblem, traj) -> Callable:
         """t -> (v_t, a_t, slips) of the island's contacts at its trajectory's state at t (the

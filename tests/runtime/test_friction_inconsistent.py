@@ -69,3 +69,45 @@ def test_a_transition_before_the_inconsistency_comes_first():
     assert len(times) == 2
     assert 0.1 * H <= min(times) <= 0.1 * H + settings.SLIP_TIME * H
     assert 0.6 * H <= max(times) <= 0.6 * H + settings.SLIP_TIME * H
+
+
+def test_a_search_that_meets_no_forces_halves_the_trial(monkeypatch):
+    """The impact search's own integrations can reach such a state too (a 30-body mixed pile
+    with mu = 0.5, 43 contacts sliding, stopped so at t = 0.543 s): the stepper then takes a
+    trial half as long from the same frame (runtime.step.stepper.Stepper._advance). A block
+    sliding at 1 m/s on a floor with mu = 0.4 (constant deceleration mu g: RK4 is exact), its
+    search made to fail on any trial longer than 0.3 of the step: the step ends in sub-steps
+    of at most that (their searches' lengths add up to the step), at the closed form to 1e-12."""
+    import math
+
+    import runtime
+    from runtime.io.scene_file import scene_from_dict
+
+    mu, v0, dt, g = 0.4, 1.0, 1e-3, 9.81
+    block = {"type": "rounded_rect", "width": 0.2, "height": 0.1, "corner_radius": 0.0}
+    scene = scene_from_dict({"body": [
+        {"name": "floor", "fixed": True, "friction": mu,
+         "shape": {"type": "wall", "start": [-20.0, 0.0], "end": [20.0, 0.0]}},
+        {"name": "block", "shape": block, "mass": 1.0, "friction": mu, "position": [0.0, 0.05],
+         "velocity": [v0, 0.0]},
+    ]})  # fmt: skip
+    world = runtime.World(scene)
+    stepper = world.stepper
+    search, spans = stepper.events.first, []
+
+    def first(frame, q, end, h, labels, trajectory):
+        spans.append(h)
+        if h > 0.3 * dt:
+            raise FrictionInconsistent("no contact forces obey Coulomb friction (made up)")
+        return search(frame, q, end, h, labels, trajectory)
+
+    monkeypatch.setattr(stepper.events, "first", first)
+    monkeypatch.setattr(stepper, "_quiet", lambda *args: False)  # (every trial searched)
+    world.step(dt)
+    assert spans[:3] == [dt, dt / 2, dt / 4]  # failed, failed, searched
+    assert math.isclose(sum(s for s in spans if s <= 0.3 * dt), dt, rel_tol=1e-12)
+    x = v0 * dt - 0.5 * mu * g * dt * dt
+    assert (
+        abs(world.poses[1, 0] - x) < 1e-12
+        and abs(world.velocities[1, 0] - (v0 - mu * g * dt)) < 1e-12
+    )

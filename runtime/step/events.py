@@ -421,6 +421,13 @@ class EventSearch:
         # either end, and a corner's gap (a distance) cannot reach 0 where it crosses an edge
         closing = (g1 < g0) | (v0 < 0) | sampled
         switching = self.switches[contacts.body1] | self.switches[contacts.body2]
+        # ... or moving apart, past the end of its feature: a corner lifting off a rounded
+        # box's corner arc ran on past the arc's end, 1.3e-6 m into the side beyond it
+        tables, c = self.collider.finder.tables, frame.contacts
+        closing |= touching & clearance.sliding_off(
+            start, trial_end[0], self.radii, self.switches, watched, c.body1, c.body2,
+            c.feature, tables.rows, tables.body_start, self.touch,
+        )  # fmt: skip
         for k in np.flatnonzero(closing & switching).tolist():
             unconfirmed.setdefault(int(island[k]), set()).add(_pair(contacts, k))
         for g, pairs in self._slid_off(frame, start, h, best, island_of_body, trajectory).items():

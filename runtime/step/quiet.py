@@ -24,9 +24,9 @@ says "quiet" only where every test the search and the step make is clear with ro
   form (:func:`least_gap_in_flight`): above the floor at every instant, neither a dip nor a
   fast pair needs the search -- a disc flying off a cylinder, a ball falling past a floor;
 * no watched pair of a body with several features (a corner, an arc's ends) closed in, whose
-  pair the search asks the contact finder again; and no resting contact of such a body may
-  have run off the end of its feature (runtime.step.clearance.may_slide_off), whose island the
-  search asks again.
+  pair the search asks the contact finder again; and no touching contact of such a body may
+  have run off the end of its feature (runtime.step.clearance.may_slide_off), whose island (a
+  resting one) or pair (one moving apart) the search asks again.
 
 Anything else goes to the search, which decides as before: the check only skips work whose
 outcome is known, so a quiet step is the same step, to the bit.
@@ -214,8 +214,8 @@ def is_quiet(
         return False
     m = case.size
     for k in range(m):
-        if modes[k] == RESTING and may_slide_off(k, q0, q1, radii, switches, body1, body2,
-                                                 feature, rows, body_start, touch):  # fmt: skip
+        if modes[k] != OPEN and may_slide_off(k, q0, q1, radii, switches, body1, body2,
+                                              feature, rows, body_start, touch):  # fmt: skip
             return False
     watched = 0
     for k in range(m):

@@ -16,6 +16,7 @@ import runtime
 from bench.scenes import falling_pile
 from generated import CASE_ID
 from runtime.step import quiet
+from runtime.step.classify import SEPARATING
 from runtime.step.stepper import Stepper
 
 SCENES = Path(__file__).resolve().parents[2] / "scenes"
@@ -363,3 +364,38 @@ def test_a_resting_smooth_end_turned_back_onto_its_arc_may_slide_off(tilt, expec
                         contacts.body1, contacts.body2, contacts.feature, tables.rows,
                         tables.body_start, 1e-9)  # fmt: skip
     assert bool(found[0]) == expected
+
+
+@pytest.mark.parametrize(("turn", "quiet"), [(-1.0, True), (1.0, False)])
+def test_a_contact_moving_apart_past_its_arcs_end_is_not_quiet(turn, quiet):
+    """A disc (r = 0.1) touching the top-right corner arc of a fixed rounded box 5e-5 rad
+    short of its end (90 degrees), moving apart at 0.05 m/s and along the arc at 0.03 m/s:
+    a step of 1 ms back along the arc is quiet; one on past its end (by 5e-5 rad, over the
+    box's top) is not -- a contact moving apart is watched on its feature's whole circle, and
+    beyond the arc's end the side is unwatched (in a mixed pile a box's corner lifting off a
+    rounded box's arc ran on past its end, 1.3e-6 m into the side)."""
+    block = {"type": "rounded_rect", "width": 1.0, "height": 1.0, "corner_radius": 0.2}
+    scene = runtime.scene_from_dict(
+        {"scene": {"gravity": [0.0, 0.0]}, "body": [
+            {"name": "block", "fixed": True, "shape": block},
+            {"name": "disc", "shape": {"type": "disc", "radius": 0.1}, "mass": 1.0,
+             "position": [0.3, 0.6]},
+        ]},
+        source="corner",
+    )  # fmt: skip
+    world = runtime.World(scene)
+    stepper, h = world.stepper, 1e-3
+    phi = math.pi / 2 - 5e-5
+    radial, along = (
+        np.array([math.cos(phi), math.sin(phi)]),
+        np.array([-math.sin(phi), math.cos(phi)]),
+    )
+    q, v = np.zeros((2, 3)), np.zeros((2, 3))
+    q[1, :2] = (0.3, 0.3) + 0.3 * radial
+    v[1, :2] = 0.05 * radial + turn * 0.03 * along
+    frame, resting = stepper.settled_frame(q, v, h, stepper.limits(h))
+    assert [frame.contacts.case_name(k) for k in range(len(frame.contacts))] == ["circle_circle"]
+    assert frame.modes.tolist() == [SEPARATING]
+    end = q.copy()
+    end[1, :2] += h * v[1, :2]
+    assert stepper._quiet(q, (end, v), frame, resting, h) == quiet

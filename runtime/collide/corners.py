@@ -61,12 +61,27 @@ HALF_PI = 0.5 * math.pi
 
 
 @leaf
+def turn_to(nx, ny, ux, uy):
+    """The angle (rad, in [0, 2 pi)) from direction n counter-clockwise to direction u: where u
+    lies in a corner's normal cone that starts at n (runtime.step.clearance asks the same)."""
+    return math.atan2(nx * uy - ny * ux, nx * ux + ny * uy) % TAU
+
+
+@leaf
+def end_angle(side, nx, ny, enx, eny):
+    """How far (rad) the way into an edge of normal n, -n, lies beyond a smooth end's arc (the
+    end's normal en, its arc's side ``side``): the end touches the edge from SPAN_EPS to pi / 2
+    (runtime.step.clearance asks the same)."""
+    return side * math.atan2(nx * eny - ny * enx, -nx * enx - ny * eny)
+
+
+@leaf
 def _corner_ok(rows, world, c, ux, uy, flat):
     """Whether corner row c may touch in the outward direction u: inside its normal cone,
     or, against a straight or concave edge (``flat``: no smooth feature next to the corner can
     touch it), at most CONE_SLACK beside it on a straight side."""
-    nx, ny, width = world[c, C_NX], world[c, C_NY], rows[c, C_WIDTH]
-    angle = math.atan2(nx * uy - ny * ux, nx * ux + ny * uy) % TAU
+    width = rows[c, C_WIDTH]
+    angle = turn_to(world[c, C_NX], world[c, C_NY], ux, uy)
     if angle <= width + SPAN_EPS or angle >= TAU - SPAN_EPS:
         return True
     after = angle - width < TAU - angle
@@ -163,7 +178,7 @@ def corners_on_edges(rows, start, world, cand, k, ctx, b1, b2):
             if gap > tol or not -slack <= u <= length + slack:
                 continue
             enx, eny = world[e, E_NX], world[e, E_NY]
-            angle = rows[e, E_SIDE] * math.atan2(nx * eny - ny * enx, -nx * enx - ny * eny)
+            angle = end_angle(rows[e, E_SIDE], nx, ny, enx, eny)
             if SPAN_EPS < angle <= HALF_PI:  # within CONE_SLACK if it penetrates: selection
                 g = (rows[e, X], rows[e, Y], 0.0) + edge
                 aux = _vertex(rows, start, world, ctx, b2, gap, px, py, angle)

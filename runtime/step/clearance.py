@@ -10,9 +10,10 @@ bodies can move (their margins) and how deep a contact the finder admits, proves
 compiled loop, and the search and the quiet check skip such pairs -- the same outcome, as no
 sample could have found a contact there.
 
-The same question for a resting contact (:func:`may_slide_off`): it is held on its feature's
-whole line or circle, so it can run past the feature's end while the next feature closes in;
-where it may have, the quiet check declines and the search asks the contact finder.
+The same question for a touching contact (:func:`may_slide_off`): it is held, or watched, on
+its feature's whole line or circle, so it can run past the feature's end while the next feature
+closes in; where it may have, the quiet check declines and the search locates the instant it
+left (:func:`room`) or asks the contact finder.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import math
 import numpy as np
 
 from runtime.collide.contact_set import EDGE, END, VERTEX
+from runtime.collide.corners import end_angle, turn_to
 from runtime.collide.features import (
     A_INDEX,
     A_R,
@@ -272,7 +274,7 @@ def _cone_room(rows, r, pose, other_t, other_r, other_pose):
     vx, vy = _world(pose, rows[r, X], rows[r, Y])
     ux, uy = _towards(rows, other_t, other_r, other_pose, vx, vy)
     nx, ny = _turned(pose[2], rows[r, C_NX], rows[r, C_NY])
-    angle = (math.atan2(nx * uy - ny * ux, nx * ux + ny * uy) + LEAVE) % (2.0 * math.pi)
+    angle = (turn_to(nx, ny, ux, uy) + LEAVE) % (2.0 * math.pi)
     return _signed(angle, rows[r, C_WIDTH] + 2.0 * LEAVE)
 
 
@@ -284,7 +286,7 @@ def _end_room(rows, r, pose, other_r, other_pose):
     rounded box tipping from its flat side onto its corner, the arc touches instead."""
     nx, ny = _turned(other_pose[2], rows[other_r, S_NX], rows[other_r, S_NY])
     ex, ey = _turned(pose[2], rows[r, E_NX], rows[r, E_NY])
-    angle = rows[r, E_SIDE] * math.atan2(nx * ey - ny * ex, -nx * ex - ny * ey)
+    angle = end_angle(rows[r, E_SIDE], nx, ny, ex, ey)
     return min(angle - SPAN_EPS, 0.5 * math.pi - angle) + LEAVE
 
 
@@ -311,9 +313,9 @@ def rooms(contacts, q, body1, body2, feature, rows, body_start):
 
 @leaf
 def may_slide_off(k, q0, q1, radii, switches, body1, body2, feature, rows, body_start, touch):
-    """Whether resting contact k may have run off the end of one of its features by ``q1``
-    (the step's end; from ``q0``): a resting contact is held on its feature's whole line or
-    circle, so past the end it would be held there while the next feature (a rounded box's
+    """Whether touching contact k may have run off the end of one of its features by ``q1``
+    (the step's end; from ``q0``): a resting contact is held (one moving apart watched) on its
+    feature's whole line or circle, so past the end it would be held there while the next feature (a rounded box's
     side after its corner arc) closes in unwatched, or the next feature would take it (a disc
     rolling off a flat face onto a corner's arc, held up on the face's line). Not if neither
     body has several features or they moved less than the touch gap, or if at q1 each feature

@@ -498,9 +498,8 @@ class EventSearch:
         c, tables = frame.contacts, self.collider.finder.tables
 
         def room(t: float, which: np.ndarray) -> float:
-            q = start if t == 0.0 else traj.at(t)[0]
-            return float(np.min(clearance.rooms(which, q, c.body1, c.body2, c.feature,
-                                                tables.rows, tables.body_start)))  # fmt: skip
+            return float(np.min(clearance.rooms(which, traj.at(t)[0], c.body1, c.body2,
+                                                c.feature, tables.rows, tables.body_start)))  # fmt: skip
 
         held = contacts[clearance.rooms(contacts, start, c.body1, c.body2, c.feature,
                                         tables.rows, tables.body_start) > 0.0]  # fmt: skip

@@ -118,6 +118,8 @@ class Stepper:
             self.links = LinkedForces(scene, stabilisation)
         self.forces = self.links or ContactForces(scene, stabilisation)
         self.friction = friction_stage(scene, self.fixed, stabilisation, self.collision)
+        # what a solve raises where no forces obey the friction modes (nothing without friction)
+        self.refused = () if self.friction is None else self.friction.inconsistent
         if self.friction is not None:
             if self.links is not None:
                 raise ValueError(
@@ -434,7 +436,6 @@ class Stepper:
         stay within (else :class:`_Merge`); ``t0``: time of q from the step's start."""
         elapsed, events, transitions = 0.0, 0, 0
         cap = math.inf  # the next trial's length at most (halved where the search met no forces)
-        refused = () if self.friction is None else self.friction.inconsistent
         while True:
             # an impact located on the step's end can leave elapsed past h by rounding: the
             # rest of the step is then empty, as when it ends there exactly (not negative)
@@ -485,7 +486,7 @@ class Stepper:
                     lifts = self.lifts.first(resting, remaining, labels, trajectory)
                     for g, t in lifts.items():
                         firsts[g] = min(firsts.get(g, t), t)
-            except refused:
+            except self.refused:
                 # the search integrated to a state whose friction modes no forces obey (the
                 # trial's stages did not meet it: a 30-body mixed pile with mu = 0.5, 43
                 # contacts sliding, stopped so at t = 0.543 s): a trial half as long, from the
@@ -528,12 +529,11 @@ class Stepper:
         one at t = 0.672 s, 19 of 21 contacts sliding), over the longest span h / 2^k whose
         stages are solved (settings.TRIAL_CUTS halvings at most; the frame's own forces were)."""
         span = h
-        refused = () if self.friction is None else self.friction.inconsistent
         for cuts in range(settings.TRIAL_CUTS + 1):
             try:
                 trial = self.trajectory(resting.problem, q, v, span, resting.accelerations)
                 return trial, span, trial.at(span)
-            except refused:
+            except self.refused:
                 if cuts == settings.TRIAL_CUTS:
                     raise
                 span /= 2
@@ -672,7 +672,7 @@ class _IslandTrajectories:
 
     def everyone_at(self, island: int, t: float) -> tuple[np.ndarray, np.ndarray]:
         """The state of every body at t, for a sub-step that every island takes (a trial cut
-        short: settings.TRIAL_CUTS): ``island``'s from its own trajectory, where its event was
+        short: its stages, or the search, met no forces): ``island``'s from its own trajectory, where its event was
         located, the others' from the trial. Its own trajectory alone let the other islands'
         bodies fall free of their resting contacts for the sub-step (a disc resting on the
         side of a box spinning at 84 rad/s went 6.3e-7 m into it in 4.7e-5 s so)."""

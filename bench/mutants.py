@@ -68,6 +68,7 @@ COAST = "runtime/step/coast.py"
 COASTS = "tests/runtime/test_coast.py"
 
 # fmt: off
+JUNCTIONS = "tests/runtime/test_junctions.py"
 MUTANTS: list[Mutant] = [
     # derive/: the proofs must fail (issue #18: a wrong bias term used to pass them)
     Mutant("derive:centripetal-sign", DERIVATION, "/ V_LEN + V_TAN**2 / V_LEN)", "/ V_LEN - V_TAN**2 / V_LEN)", PROOFS, "circular edge: the centripetal v_tan^2/|v| term of d'' with the wrong sign"),
@@ -167,6 +168,7 @@ MUTANTS: list[Mutant] = [
     Mutant("events:sinking-touch-unlocated", "runtime/step/events.py", "return Bracket(k, t0, t0 + span, t0 + 0.5 * span, SINK, c, t0, span)", "return None", IMPACTS, "a lifting or separating contact that closes from the start of a trial is not located: it sinks (a falling 30-disc pile with mu = 1: 1.7e-7 m)"),
     Mutant("lifts:later-lifts-unchecked", "runtime/step/lift_events.py", "if earliest is not None and g(earliest) > 0.0:", "if earliest is not None:", LIFTS, "only the first lifting contact is located: an earlier lift-off of another is stepped across"),
     Mutant("lifts:pressed-side", "runtime/step/lift_events.py", "    return hi\n", "    return lo\n", LIFTS, "a lift-off located on the side where the contact still presses"),
+    Mutant("lifts:any-force-presses", "runtime/step/lift_events.py", "pressing = forces > settings.LCP_TOL * forces[members].max()", "pressing = forces > 0.0", "tests/runtime/test_hard_cases.py::test_mixed_bodies_falling_into_a_v_do_not_sink_into_each_other", "a contact restarted just past its lift-off, found pressing with 1e-9 of its island's largest force (one solution of a redundant set), is located lifting again at once, until MAX_EVENTS (the mixed pile at t = 0.433 s)"),
     # runtime/step/compiled_friction.py: friction on the compiled path
     Mutant("compiled-friction:quiet-ignores-slide", COMPILED_FRICTION, "if slide[k] != 0.0 and not slide[k] * v_t[k] > 0.0:", "if False:", COMPILED_FRICTION_TESTS, "a trial whose sliding contact's slip crossed 0 (slip -> stick) called quiet: the transition not located"),
     Mutant("compiled-friction:no-restitution-phase", COMPILED_FRICTION, "if phase == 1 and not np.any(e_w > 0.0):", "if phase == 1:", COMPILED_FRICTION_TESTS, "impacts with friction lose their restitution phase (plastic whatever e)"),
@@ -218,6 +220,12 @@ MUTANTS: list[Mutant] = [
     Mutant("clearance:end-unchecked", "runtime/step/clearance.py", "return _end_room(rows, r, pose, other_r, other_pose)", "return math.inf", "tests/runtime/test_quiet_step.py", "a smooth end turned back onto its arc (a rounded box tipping from its flat side onto its corner) never slides off it: the end stays held where the arc takes the contact"),
     Mutant("events:left-unlocated", "runtime/step/events.py", "left = self._left(frame, mine[sliding], start, trajectory(g), until)", "left = None", "tests/runtime/test_hard_cases.py tests/runtime/test_friction_edge.py", "the instant a resting contact leaves its feature is not located: a disc rolling off a flat face onto a corner arc is held up on the face's line past its end, flies and lands (1.3e-4 J)"),
     Mutant("events:slid-off-unasked", EVENTS, "            if not sliding.any():\n                continue", "            continue", "tests/runtime/test_hard_cases.py", "the event search does not ask about an island whose resting contact slid off its feature: an ellipse 4.6e-6 m into a rounded box's side"),
+    # runtime/collide/junctions.py: reflex joins of straight edges
+    Mutant("junctions:free-space-unheld", "runtime/collide/junctions.py", "return min(1.0 / sin, JOIN_REACH) * depth", "return 0.0", JUNCTIONS, "an edge does not hold a corner beyond its end over the free space up to the other edge: a box sliding into a V's vertex is found past it, 1.7e-9 m into the other wall"),
+    Mutant("junctions:material-unheld", "runtime/collide/junctions.py", "reach = sin / -cos if cos < 0.0 else JOIN_REACH", "reach = 0.0", JUNCTIONS, "a corner pressed into a V's vertex, behind both lines, is held by neither wall"),
+    Mutant("junctions:depth-unbounded", "runtime/collide/junctions.py", "if angle <= 0.0 or not abs(gap) <= limit:", "if angle <= 0.0:", JUNCTIONS, "an edge holds a corner beyond its end however deep: a box's corner 1 cm below a V's vertex touches both walls"),
+    Mutant("junctions:walls-unjoined", "runtime/collide/finder.py", "            self._join_fixed(p)\n", "            pass\n", JUNCTIONS, "two fixed walls meeting at a point are not joined: the box tipping over the V's vertex stops 8.9 mm into a wall"),
+    Mutant("junctions:end-vertices-kept", "runtime/collide/junctions.py", "            rows[r, C_WIDTH] = HIDDEN", "            pass", JUNCTIONS, "the walls' end vertices at a V's vertex are kept: a corner there touches four features and the force solve fails (infeasible)"),
 ]
 # fmt: on
 

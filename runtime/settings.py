@@ -50,6 +50,10 @@ DUPLICATE_EPS = 1e-9  # relative to the pair's size (sum of bounding radii): one
 PARALLEL_EPS = 1e-9  # of |n1 . n2|: normals this close to (anti)parallel are the same constraint
 JOIN_EPS = 1e-9  # relative to the body's bounding radius: a vertex this close to a join of two
 # edges takes that join's normal cone (rounding of the edges' end points)
+JOIN_REACH = 10.0  # per unit of the contact tolerance or of a corner's depth: how far at most a
+# straight edge holds a corner beyond its end at a reflex join (runtime.collide.junctions), whose
+# free space there reaches 1 / sin of the join's angle beyond and the material behind both lines
+# |tan|: a cap keeps a nearly flat or nearly square join's reach near the join
 INSIDE_EPS = 1e-9  # relative to body 2's half width: a "penetrating" vertex whose way out of a
 # closed body 2 is positive by more than this lies outside it (the candidate is spurious)
 SCREEN_SLACK = 1e-9  # relative to the pair's size: the candidate stage screens with geometric

@@ -43,8 +43,11 @@ from runtime.collide.features import (
     E_SIDE,
     ELLIPSES,
     ENDS,
+    HIDDEN,
     L_INDEX,
     S_INDEX,
+    S_JOIN_END,
+    S_JOIN_START,
     S_LENGTH,
     S_NX,
     S_NY,
@@ -54,6 +57,7 @@ from runtime.collide.features import (
     X,
     Y,
 )
+from runtime.collide.junctions import within
 from runtime.compiled import leaf
 from runtime.settings import CONE_SLACK, SPAN_EPS
 
@@ -79,8 +83,10 @@ def end_angle(side, nx, ny, enx, eny):
 def _corner_ok(rows, world, c, ux, uy, flat):
     """Whether corner row c may touch in the outward direction u: inside its normal cone,
     or, against a straight or concave edge (``flat``: no smooth feature next to the corner can
-    touch it), at most CONE_SLACK beside it on a straight side."""
+    touch it), at most CONE_SLACK beside it on a straight side; never if it is HIDDEN."""
     width = rows[c, C_WIDTH]
+    if width == HIDDEN:
+        return False
     angle = turn_to(world[c, C_NX], world[c, C_NY], ux, uy)
     if angle <= width + SPAN_EPS or angle >= TAU - SPAN_EPS:
         return True
@@ -143,14 +149,14 @@ def corners_on_edges(rows, start, world, cand, k, ctx, b1, b2):
     for s in range(start[b2, SEGMENTS], start[b2 + 1, SEGMENTS]):
         ax, ay, nx, ny = world[s, X] + o2x, world[s, Y] + o2y, world[s, S_NX], world[s, S_NY]
         tx, ty, length = world[s, S_TX], world[s, S_TY], rows[s, S_LENGTH]
-        slack = SPAN_EPS * length
+        slack, join0, join1 = SPAN_EPS * length, rows[s, S_JOIN_START], rows[s, S_JOIN_END]
         edge = (rows[s, X], rows[s, Y], rows[s, S_NX], rows[s, S_NY])
         for c in range(c0, c1):
             px, py = world[c, X] + o1x, world[c, Y] + o1y
             gap, u = nx * (px - ax) + ny * (py - ay), tx * (px - ax) + ty * (py - ay)
             if (
                 gap <= tol
-                and -slack <= u <= length + slack
+                and within(u, gap, length, slack, join0, join1, tol)
                 and _corner_ok(rows, world, c, -nx, -ny, True)
             ):
                 g = (rows[c, X], rows[c, Y], 0.0) + edge
@@ -175,7 +181,7 @@ def corners_on_edges(rows, start, world, cand, k, ctx, b1, b2):
         for e in range(e0, e1):  # a smooth end: only for directions beyond its arc
             px, py = world[e, X] + o1x, world[e, Y] + o1y
             gap, u = nx * (px - ax) + ny * (py - ay), tx * (px - ax) + ty * (py - ay)
-            if gap > tol or not -slack <= u <= length + slack:
+            if gap > tol or not within(u, gap, length, slack, join0, join1, tol):
                 continue
             enx, eny = world[e, E_NX], world[e, E_NY]
             angle = end_angle(rows[e, E_SIDE], nx, ny, enx, eny)

@@ -24,6 +24,8 @@ from runtime.collide.features import (
     ELLIPSES,
     L_INDEX,
     S_INDEX,
+    S_JOIN_END,
+    S_JOIN_START,
     S_LENGTH,
     S_NX,
     S_NY,
@@ -33,6 +35,7 @@ from runtime.collide.features import (
     X,
     Y,
 )
+from runtime.collide.junctions import within
 from runtime.compiled import leaf
 from runtime.settings import SPAN_EPS
 
@@ -68,7 +71,8 @@ def _circle_edge(rows, world, cand, k, ctx, b1, centre, geometry, index1, b2, s)
     ax, ay, nx, ny = world[s, X] + o2x, world[s, Y] + o2y, world[s, S_NX], world[s, S_NY]
     gap = nx * (cx - ax) + ny * (cy - ay) - r
     u, slack = world[s, S_TX] * (cx - ax) + world[s, S_TY] * (cy - ay), SPAN_EPS * rows[s, S_LENGTH]
-    if gap > ctx.tolerance or not -slack <= u <= rows[s, S_LENGTH] + slack:
+    joins, tol = (rows[s, S_JOIN_START], rows[s, S_JOIN_END]), ctx.tolerance
+    if gap > tol or not within(u, gap, rows[s, S_LENGTH], slack, *joins, tol):
         return k
     g = geometry + (rows[s, X], rows[s, Y], rows[s, S_NX], rows[s, S_NY])
     return emit(

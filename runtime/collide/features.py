@@ -11,7 +11,8 @@ concatenated with per-body ranges (:func:`scene_tables`).  All in body coordinat
 - ends: where a convex arc runs smoothly into a straight side; it acts as a vertex against
   straight edges for directions beyond its arc (a rounded box flat on a floor touches at the
   two ends of its flat side).  ``side`` is +1 if the arc comes before the join, -1 after;
-- segments: start point, outward normal, unit tangent, length;
+- segments: start point, outward normal, unit tangent, length, and the free angle of a reflex
+  join at its start and at its end (0: none; runtime.collide.junctions);
 - arcs: centre, signed radius (concave < 0), start angle, span (counter-clockwise);
 - ellipses: centre, semi-axes, angle.
 
@@ -43,10 +44,13 @@ from runtime.settings import JOIN_EPS, THICKNESS_RAYS, TURN_EPS, WIDTH_DIRECTION
 X, Y = 0, 1  # every table: the feature's point (corner, end, segment start, centre)
 C_NX, C_NY, C_WIDTH, C_ARC_BEFORE, C_ARC_AFTER, C_INDEX = 2, 3, 4, 5, 6, 7
 E_NX, E_NY, E_SIDE, E_INDEX = 2, 3, 4, 5
-S_NX, S_NY, S_TX, S_TY, S_LENGTH, S_INDEX = 2, 3, 4, 5, 6, 7
+S_NX, S_NY, S_TX, S_TY, S_LENGTH, S_INDEX, S_JOIN_START, S_JOIN_END = 2, 3, 4, 5, 6, 7, 8, 9
 A_R, A_START, A_SPAN, A_INDEX = 2, 3, 4, 5
 L_A, L_B, L_ANGLE, L_INDEX = 2, 3, 4, 5
-WIDTH = 8  # columns of every table (unused ones are 0)
+HIDDEN = (
+    -1.0
+)  # a corner's cone width (C_WIDTH) where it touches nothing (runtime.collide.junctions)
+WIDTH = 10  # columns of every table (unused ones are 0)
 CORNERS, ENDS, SEGMENTS, ARCS, ELLIPSES = range(5)  # the kinds: columns of FeatureTables.start
 CLOSED, HALF_WIDTH, RADIUS, FIXED = range(4)  # columns of FeatureTables.body
 
@@ -170,10 +174,11 @@ def _build(shape: Shape) -> ShapeFeatures:
         (nx, ny), width, before, after = at[0][1:] if at else ((1.0, 0.0), TAU, False, False)
         corners.append((x, y, nx, ny, width, before, after, k))
     segments, arcs, ellipses = [], [], []
+    joins = _reflex_joins(shape)
     for j, e in enumerate(edges):
         if isinstance(e, Segment):
             (ax, ay), (nx, ny) = e.start, e.normal
-            segments.append((ax, ay, nx, ny, -ny, nx, e.length, j))
+            segments.append((ax, ay, nx, ny, -ny, nx, e.length, j, *joins.get(j, (0.0, 0.0))))
         elif isinstance(e, Arc):
             arcs.append((*e.centre, e.radius, e.start_angle, e.span, j))
         else:
@@ -182,6 +187,34 @@ def _build(shape: Shape) -> ShapeFeatures:
     tables = tuple(_table(r) for r in rows)
     half = half_width(shape) if shape.closed else math.inf
     return ShapeFeatures(tables, shape.closed, half, shape.bounding_radius)
+
+
+def _reflex_joins(shape: Shape) -> dict[int, tuple[float, float]]:
+    """{edge index: (free angle at its start, at its end)} of the shape's straight edges that
+    meet another straight edge at a reflex join in an open chain (runtime.collide.junctions)."""
+    from runtime.collide.junctions import free_angle  # (it reads this module's columns)
+
+    edges, out = shape.edges, {}
+    if shape.closed:  # (a closed unit is convex)
+        return out
+    for i in range(len(edges) - 1):
+        k = i + 1
+        e_in, e_out = edges[i], edges[k]
+        if not (isinstance(e_in, Segment) and isinstance(e_out, Segment)):
+            continue
+        if math.dist(e_in.end, e_out.start) > JOIN_EPS * shape.bounding_radius:
+            continue
+        t_in, t_out = _unit(e_in), _unit(e_out)
+        angle = free_angle((-t_in[0], -t_in[1]), e_in.normal, t_out, e_out.normal)
+        if angle > 0.0:
+            out[i] = (out.get(i, (0.0, 0.0))[0], angle)
+            out[k] = (angle, out.get(k, (0.0, 0.0))[1])
+    return out
+
+
+def _unit(e: Segment) -> tuple[float, float]:
+    dx, dy = e.end[0] - e.start[0], e.end[1] - e.start[1]
+    return dx / e.length, dy / e.length
 
 
 def half_width(shape: Shape) -> float:

@@ -30,7 +30,15 @@ from runtime.collide import ovals
 from runtime.collide.candidates import COLUMNS
 from runtime.collide.contact_keys import ContactKeys
 from runtime.collide.contact_set import Contacts
-from runtime.collide.features import features, scene_tables
+from runtime.collide.features import (
+    CLOSED,
+    FIXED,
+    RADIUS,
+    SEGMENTS,
+    features,
+    scene_tables,
+)
+from runtime.collide.junctions import join_fixed_edges
 from runtime.collide.narrowphase import find_candidates
 from runtime.collide.selection import select
 from runtime.compiled import njit
@@ -153,6 +161,15 @@ class ContactFinder:
         self._kernels = [(CASE_ID[case], _kernel(case)) for case in sorted(self.cases)]
         self._zeros = np.zeros(self.n)
         self._everyone = np.ones(self.n, dtype=np.bool_)
+        # fixed open chains of two or more bodies may meet at reflex joins (junctions), known
+        # once their poses are: the joins' columns as each chain's own tables have them
+        t = self.tables
+        chains = (
+            (t.body[:, FIXED] > 0) & (t.body[:, CLOSED] == 0) & (np.diff(t.start[:, SEGMENTS]) > 0)
+        )
+        self._chains = np.flatnonzero(chains) if np.unique(t.owner[chains]).size > 1 else None
+        self._own_rows = t.rows.copy()
+        self._joined: bytes | None = None
         self._allocate(8 * len(self.owner) + 16)
 
     def _allocate(self, capacity: int) -> None:
@@ -189,6 +206,8 @@ class ContactFinder:
         given = p
         if self.compound:  # per unit: its body's
             p, widen, allow = p[self.owner], widen[self.owner], allow[self.owner]
+        if self._chains is not None:
+            self._join_fixed(p)
         rows, start, body, owner = self.tables[:4]
         while True:
             inputs = self._kernel_inputs
@@ -243,6 +262,16 @@ class ContactFinder:
         if self.compound:
             one, two = owner[one], owner[two]
         return Contacts(case, one, two, geometry, feature, gap, point, normal)
+
+    def _join_fixed(self, unit_poses: np.ndarray) -> None:
+        """The reflex joins of two fixed bodies' edges (runtime.collide.junctions) at these
+        poses, found again only where the fixed bodies' poses changed."""
+        key = unit_poses[self._chains].tobytes()
+        if key != self._joined:
+            t = self.tables
+            t.rows[:] = self._own_rows
+            join_fixed_edges(t.rows, t.start, t.body, t.owner, unit_poses, t.body[:, RADIUS])
+            self._joined = key
 
     def refresh_ovals(self, poses: np.ndarray, contacts: Contacts) -> Contacts:
         """``contacts`` with the osculating circle of every contact on an ellipse found again

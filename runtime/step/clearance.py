@@ -46,6 +46,8 @@ from runtime.collide.features import (
     L_B,
     L_INDEX,
     S_INDEX,
+    S_JOIN_END,
+    S_JOIN_START,
     S_LENGTH,
     S_NX,
     S_NY,
@@ -55,6 +57,7 @@ from runtime.collide.features import (
     X,
     Y,
 )  # fmt: skip
+from runtime.collide.junctions import beyond
 from runtime.compiled import leaf, njit
 from runtime.settings import SPAN_EPS
 
@@ -246,8 +249,16 @@ def _room(rows, t, r, pose, other_t, other_r, other_pose):
         ax, ay = _world(pose, rows[r, X], rows[r, Y])
         ox, oy = _world(other_pose, rows[other_r, X], rows[other_r, Y])  # a point or a centre
         tx, ty = _turned(pose[2], rows[r, S_TX], rows[r, S_TY])
-        u = (ox - ax) * tx + (oy - ay) * ty
-        return min(u, rows[r, S_LENGTH] - u) + LEAVE * rows[r, S_LENGTH]
+        u, length = (ox - ax) * tx + (oy - ay) * ty, rows[r, S_LENGTH]
+        before = after = 0.0
+        if other_t != ARCS:  # a corner or end: held beyond a reflex join's end (junctions),
+            # at most as far as the contact finder holds it (not for a depth behind the other
+            # edge, which it widens by its tolerance): where it lets go, room is <= 0
+            nx, ny = _turned(pose[2], rows[r, S_NX], rows[r, S_NY])
+            gap = (ox - ax) * nx + (oy - ay) * ny
+            before = beyond(rows[r, S_JOIN_START], gap, math.inf, 0.0)
+            after = beyond(rows[r, S_JOIN_END], gap, math.inf, 0.0)
+        return min(u + before, length - u + after) + LEAVE * length
     if rows[r, A_SPAN] >= 2.0 * math.pi:
         return math.inf
     if other_t == SEGMENTS:  # the arc touches the line where its normal opposes the line's

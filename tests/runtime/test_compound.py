@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 import runtime
 from runtime.collide.contacts import find_contacts
-from runtime.collide.features import CORNERS, units
+from runtime.collide.features import C_INDEX, CORNERS, S_INDEX, units
 from runtime.model import shapes
 from runtime.model.scene import Body
 
@@ -194,13 +194,13 @@ def test_frame_features_name_its_edges_and_hide_its_joins():
         [(-0.55, -0.35), (0.55, -0.35), (0.55, 0.35), (-0.55, 0.35)]
     )
     for row in corners:
-        assert f.vertices[int(row[-1])] == pytest.approx(tuple(row[:2]), abs=1e-15)
+        assert f.vertices[int(row[C_INDEX])] == pytest.approx(tuple(row[:2]), abs=1e-15)
     seen = []
     for u in tables:
-        for row in u.tables[2]:  # segments: start point, then the index last
-            edge = f.edges[int(row[-1])]
+        for row in u.tables[2]:  # segments: start point, ..., the edge's index
+            edge = f.edges[int(row[S_INDEX])]
             assert edge.start == pytest.approx(tuple(row[:2]), abs=1e-15)
-            seen.append(int(row[-1]))
+            seen.append(int(row[S_INDEX]))
     assert sorted(seen) == list(range(16))
 
 

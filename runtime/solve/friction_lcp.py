@@ -566,7 +566,7 @@ def solve_held(
     cone[np.arange(s), k + np.arange(s)] = cone[np.arange(s), k + s + np.arange(s)] = 1.0
     cost = np.r_[np.zeros(k), np.ones(2 * s), np.zeros(s)]  # no needless f+ and f- together
     bounds = [(0.0, None)] * (k + 2 * s) + [(0.0, 0.0)] * s
-    found = optimize.linprog(cost, cone, np.zeros(s), M[held], -q[held], bounds, method="highs")
+    found = held_forces(cost, cone, M[held], -q[held], bounds)
     if found.status != 0:
         return False
     z = np.maximum(found.x, 0.0)
@@ -575,6 +575,18 @@ def solve_held(
     write_solution(z, z > 0.0, stick, jac, tangent_jac, ends, tangent_bias, mu, slide,
                    inv_mass, normal, tangent, slack, tangent_acc, acc, flags)  # fmt: skip
     return True
+
+
+def held_forces(cost, cone, equations, rhs, bounds):
+    """scipy's linprog (HiGHS) of :func:`solve_held`: min cost.x with cone x <= 0, equations x =
+    rhs, within bounds -- without HiGHS's presolve, which corrupted the heap and aborted the
+    process on one such 20-variable LP (scipy 1.17.1; a half disc in a V of walls with end
+    vertices and mu = 0.5; tests/runtime/data/held_lp_presolve_crash.json; upstream HiGHS
+    presolve crashes: scipy issues 17521, 22188). These LPs are small and dense."""
+    return optimize.linprog(
+        cost, cone, np.zeros(len(cone)), equations, rhs, bounds, method="highs",
+        options={"presolve": False},
+    )  # fmt: skip
 
 
 def painleve(mu: np.ndarray, slide: np.ndarray, first: int = 0) -> FrictionInconsistent:

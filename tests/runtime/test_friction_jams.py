@@ -243,8 +243,11 @@ def test_a_pile_whose_trial_meets_a_painleve_configuration_goes_on():
     assert run.max_penetration < 1e-9
     for f_n, f_t in zip(run.contact_forces, run.friction_forces, strict=True):
         assert np.all(f_n >= 0.0)
-        # (+ rounding: |f_t| up to 2e-12 N at f_n = 0 beside normal forces of ~30 N)
-        assert np.all(np.abs(f_t) <= 0.5 * f_n * (1 + 1e-9) + 1e-13 * f_n.max(initial=1.0))
+        # (+ rounding, to the solver's aim, settings.LCP_SHARP of the largest force: |f_t| up
+        # to 5.3e-12 N at f_n = 0 beside normal forces of ~30 N where the held island's LP,
+        # HiGHS without presolve, chose its vertex)
+        sharp = settings.LCP_SHARP * f_n.max(initial=1.0)
+        assert np.all(np.abs(f_t) <= 0.5 * f_n * (1 + 1e-9) + sharp)
 
 
 @pytest.mark.parametrize("searched", [False, True])

@@ -47,9 +47,8 @@ E_NX, E_NY, E_SIDE, E_INDEX = 2, 3, 4, 5
 S_NX, S_NY, S_TX, S_TY, S_LENGTH, S_INDEX, S_JOIN_START, S_JOIN_END = 2, 3, 4, 5, 6, 7, 8, 9
 A_R, A_START, A_SPAN, A_INDEX = 2, 3, 4, 5
 L_A, L_B, L_ANGLE, L_INDEX = 2, 3, 4, 5
-HIDDEN = (
-    -1.0
-)  # a corner's cone width (C_WIDTH) where it touches nothing (runtime.collide.junctions)
+# a corner's cone width (C_WIDTH) where it touches nothing (runtime.collide.junctions)
+HIDDEN = -1.0
 WIDTH = 10  # columns of every table (unused ones are 0)
 CORNERS, ENDS, SEGMENTS, ARCS, ELLIPSES = range(5)  # the kinds: columns of FeatureTables.start
 CLOSED, HALF_WIDTH, RADIUS, FIXED = range(4)  # columns of FeatureTables.body
@@ -204,17 +203,12 @@ def _reflex_joins(shape: Shape) -> dict[int, tuple[float, float]]:
             continue
         if math.dist(e_in.end, e_out.start) > JOIN_EPS * shape.bounding_radius:
             continue
-        t_in, t_out = _unit(e_in), _unit(e_out)
-        angle = free_angle((-t_in[0], -t_in[1]), e_in.normal, t_out, e_out.normal)
+        (ax, ay), (bx, by) = e_in.normal, e_out.normal  # (tangents: the normals turned left)
+        angle = free_angle((ay, -ax), (ax, ay), (-by, bx), (bx, by))
         if angle > 0.0:
             out[i] = (out.get(i, (0.0, 0.0))[0], angle)
             out[k] = (angle, out.get(k, (0.0, 0.0))[1])
     return out
-
-
-def _unit(e: Segment) -> tuple[float, float]:
-    dx, dy = e.end[0] - e.start[0], e.end[1] - e.start[1]
-    return dx / e.length, dy / e.length
 
 
 def half_width(shape: Shape) -> float:

@@ -1,17 +1,18 @@
 """Reflex joins of straight edges: where an edge holds a corner a little beyond its end.
 
 Why: a straight edge holds a corner (or a smooth end, or a circle by its centre) only level
-with it -- its span, closed by SPAN_EPS. Where two straight edges meet at a reflex join (the inside of a V: one chain's, or two
-fixed walls ending at one point), a corner sliding into the join along one edge reaches the
-other edge's line only at that edge's end, unwatched until it is there; and a corner pressed
-into the join leaves both spans, behind both lines, where neither edge holds it and it sinks
-through (a box sliding down a wall into a V of walls at 30 degrees; the mixed pile's half disc).
-Near such a join the free space is exactly what lies in front of both lines, so each edge's line
-holds a corner beyond its end as far as that stays true, for corners within the contact
-finder's tolerance of it: in front of the line, over the free space up to the other edge and a
-tolerance behind that edge's line (1 / sin of the join's free angle times the tolerance beyond
-the end); behind it, over the material behind both lines (|tan| of the angle per unit of depth);
-at most settings.JOIN_REACH per unit of tolerance or depth, so only near the join.
+with it -- its span, closed by SPAN_EPS. Where two straight edges meet at a reflex join (the
+inside of a V: one chain's, or two fixed walls ending at one point), a corner sliding into the
+join along one edge reaches the other edge's line only at that edge's end, unwatched until it
+is there; and a corner pressed into the join leaves both spans, behind both lines, where
+neither edge holds it and it sinks through (a box sliding down a wall into a V of walls at 30
+degrees; the mixed pile's half disc). Near such a join the free space is exactly what lies in
+front of both lines, so each edge's line holds a corner beyond its end as far as that stays
+true, for corners within the contact finder's tolerance of it: in front of the line, over the
+free space up to the other edge and a tolerance behind that edge's line (1 / sin of the join's
+free angle times the tolerance beyond the end); behind it, over the material behind both lines
+(|tan| of the angle per unit of depth); at most settings.JOIN_REACH per unit of tolerance or
+depth, so only near the join.
 
 Each segment row of the feature tables (runtime.collide.features) carries the free angle of a
 reflex join at its start and at its end (0: a free end or a convex join); a chain's own joins

@@ -30,6 +30,8 @@ from runtime.collide.features import (
     A_SPAN,
     A_START,
     ARCS,
+    C_ARC_AFTER,
+    C_ARC_BEFORE,
     C_INDEX,
     C_NX,
     C_NY,
@@ -275,15 +277,21 @@ def _room(rows, t, r, pose, other_t, other_r, other_pose):
 def _cone_room(rows, r, pose, other_t, other_r, other_pose):
     """How far (rad) the direction from corner row r to feature (other_t, other_r) lies inside
     the corner's normal cone widened by LEAVE: a side next to the corner may meet a curve
-    beyond it (a half disc's corner resting on an ellipse, turning onto its flat side). inf for
-    the other straight, whose turn onto the corner's next side brings another corner to it,
-    which the frame watches."""
-    if other_t == SEGMENTS:
-        return math.inf
+    beyond it (a half disc's corner resting on an ellipse, turning onto its flat side), and an
+    arc next to it a straight edge (a half disc tipping about its corner on a wall turned its
+    arc 4.5e-7 m into the wall). inf for a straight edge against a corner between straight
+    sides, whose turn onto the next side brings another corner to it, which the frame
+    watches."""
     if other_t == ELLIPSES:
         return -math.inf
-    vx, vy = _world(pose, rows[r, X], rows[r, Y])
-    ux, uy = _towards(rows, other_t, other_r, other_pose, vx, vy)
+    if other_t == SEGMENTS:
+        if rows[r, C_ARC_BEFORE] == 0.0 and rows[r, C_ARC_AFTER] == 0.0:
+            return math.inf
+        sx, sy = _turned(other_pose[2], rows[other_r, S_NX], rows[other_r, S_NY])
+        ux, uy = -sx, -sy  # the corner's outward direction onto the edge
+    else:
+        vx, vy = _world(pose, rows[r, X], rows[r, Y])
+        ux, uy = _towards(rows, other_t, other_r, other_pose, vx, vy)
     nx, ny = _turned(pose[2], rows[r, C_NX], rows[r, C_NY])
     angle = (turn_to(nx, ny, ux, uy) + LEAVE) % (2.0 * math.pi)
     return _signed(angle, rows[r, C_WIDTH] + 2.0 * LEAVE)

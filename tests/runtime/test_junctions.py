@@ -92,6 +92,27 @@ def test_box_tips_over_the_vertex_and_never_sinks(end_vertices):
         np.testing.assert_array_equal(world.poses, plain.poses)
 
 
+@pytest.mark.parametrize("slope", [40.0, 45.0])
+def test_a_half_disc_tipping_in_the_vertex_keeps_its_arc_out_of_the_wall(slope):
+    """A half disc sliding flat down one wall into the vertex tips about its corner there (the
+    plastic impact lifts it off the wall it slid on). Its arc leaves that corner square to its
+    flat side; tipping, the corner's direction to the other wall turns out of its normal cone
+    onto the arc, which went into the wall unlocated: 7e-7 m at 40 degrees, 2.2e-5 m at 45 (the
+    arc's end tangent to the wall from the start, its contact the corner's duplicate in d' and
+    dropped). That instant is now located (runtime.step.clearance, the cone's room)."""
+    a = math.radians(slope)
+    t = np.array([math.cos(a), math.sin(a)])
+    half = {"name": "b", "shape": {"type": "half_disc", "radius": 0.06}, "density": DENSITY,
+            "position": ((SLIDE + 0.06) * t).tolist(), "angle": a}  # fmt: skip
+    scene = scene_from_dict({"body": [*_walls(a), half]})
+    world = runtime.World(scene)
+    deepest = 0.0
+    for _ in range(1500):
+        world.step(1e-3)
+        deepest = max(deepest, _deepest(world))
+    assert deepest <= 1e-9
+
+
 def _projected(slope: float, speed: float) -> np.ndarray:
     """Velocity (vx, vy, omega) after a plastic frictionless impact of the box's lower corner at
     the vertex: v0 minus M^-1 a lambda with a v = 0 for the left wall's row a, the only one

@@ -334,9 +334,10 @@ def rooms(contacts, q, body1, body2, feature, rows, body_start):
 def may_slide_off(k, q0, q1, radii, switches, body1, body2, feature, rows, body_start, touch):
     """Whether touching contact k may have run off the end of one of its features by ``q1``
     (the step's end; from ``q0``): a resting contact is held (one moving apart watched) on its
-    feature's whole line or circle, so past the end it would be held there while the next feature (a rounded box's
-    side after its corner arc) closes in unwatched, or the next feature would take it (a disc
-    rolling off a flat face onto a corner's arc, held up on the face's line). Not if neither
+    feature's whole line or circle, so past the end it would be held there while the next
+    feature (a rounded box's side after its corner arc) closes in unwatched, or the next
+    feature would take it (a disc rolling off a flat face onto a corner's arc, held up on the
+    face's line). Not if neither
     body has several features or they moved less than the touch gap, or if at q1 each feature
     still holds the contact (:func:`room`): a step's short smooth path does not leave a
     feature and come back. An ellipse's contact point is not known here: a contact on one may

@@ -35,7 +35,7 @@ from runtime.step.guards import (
     inner_radius,
     passed_through,
 )
-from runtime.step.integrators import METHODS
+from runtime.step.integrators import METHODS, TIME_STEPPING
 from runtime.step.stepper import Stepper, StepReport
 
 
@@ -145,7 +145,12 @@ class World:
             stabilisation = Stabilisation.critically_damped(10.0 * defaults.dt)
         self.scene, self.method = scene, method
         self.guards = Guards() if guards is None else guards
-        self.stepper = Stepper(scene, method, stabilisation, resting_speed)
+        if method == TIME_STEPPING:  # imported here: the other methods never load it
+            from runtime.step.time_stepping import TimeStepper
+
+            self.stepper = TimeStepper(scene, method, stabilisation, resting_speed)
+        else:
+            self.stepper = Stepper(scene, method, stabilisation, resting_speed)
         self.t = 0.0
         self.steps = 0
         self.poses, self.velocities = scene.poses(), scene.velocities()

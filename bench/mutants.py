@@ -69,6 +69,8 @@ COASTS = "tests/runtime/test_coast.py"
 
 # fmt: off
 JUNCTIONS = "tests/runtime/test_junctions.py"
+TIME_STEPPING = "tests/runtime/test_time_stepping.py tests/runtime/test_island_impulses.py"
+TS = "runtime/step/time_stepping.py"
 MUTANTS: list[Mutant] = [
     # derive/: the proofs must fail (issue #18: a wrong bias term used to pass them)
     Mutant("derive:centripetal-sign", DERIVATION, "/ V_LEN + V_TAN**2 / V_LEN)", "/ V_LEN - V_TAN**2 / V_LEN)", PROOFS, "circular edge: the centripetal v_tan^2/|v| term of d'' with the wrong sign"),
@@ -228,6 +230,11 @@ MUTANTS: list[Mutant] = [
     Mutant("junctions:depth-unbounded", "runtime/collide/junctions.py", "if angle <= 0.0 or not abs(gap) <= limit:", "if angle <= 0.0:", JUNCTIONS, "an edge holds a corner beyond its end however deep: a box's corner 1 cm below a V's vertex touches both walls"),
     Mutant("junctions:walls-unjoined", "runtime/collide/finder.py", "            self._join_fixed(p)\n", "            pass\n", JUNCTIONS, "two fixed walls meeting at a point are not joined: the box tipping over the V's vertex stops 8.9 mm into a wall"),
     Mutant("junctions:end-vertices-kept", "runtime/collide/junctions.py", "            rows[r, C_WIDTH] = HIDDEN", "            pass", JUNCTIONS, "the walls' end vertices at a V's vertex are kept: a corner there touches four features and the force solve fails (infeasible)"),
+    Mutant("time-stepping:no-speculation", TS, "b = rate + np.maximum(gap, 0.0) / h", "b = rate", TIME_STEPPING, "a contact open by d is held shut at once (no speculative row): a falling disc stops in the air, a step short of the floor"),
+    Mutant("time-stepping:plastic-bounce", TS, "b[bounce] = (1.0 + e[bounce]) * rate[bounce]", "b[bounce] = rate[bounce]", TIME_STEPPING, "restitution ignored: every impact plastic"),
+    Mutant("time-stepping:unprojected", TS, "if gap.min() >= -self.tolerance:", "if True:", TIME_STEPPING, "the overlaps a step leaves are never projected out (the velocity LCP holds only the linearised gaps)"),
+    Mutant("time-stepping:explicit-euler", TS, "end = self._project(q + h * after, after)", "end = self._project(q + h * v, after)", TIME_STEPPING, "positions advanced with the velocities before the step (explicit Euler): falls by the wrong recurrence, and contacts close by the old velocity"),
+    Mutant("island-impulses:unregularised", "runtime/settings.py", "IMPULSE_REGULARISATION = 1e-9 ", "IMPULSE_REGULARISATION = 0.0 ", TIME_STEPPING, "the impulse LCP unregularised: a pile's dependent rows with b out of A's range end \"infeasible\" (the landing 50-disc pile, seed 7, step 630)"),
 ]
 # fmt: on
 

@@ -150,6 +150,14 @@ def test_a_falling_pile_settles_without_overlap_and_its_floor_carries_its_weight
     assert lift == pytest.approx(20 * G, rel=1e-6)
 
 
+def test_the_landing_pile_whose_unregularised_solve_failed_runs_on():
+    """The landing 50-disc pile (seed 7) through t = 0.7 s: without the impulse LCP's
+    regularisation its step 630 ended "infeasible" (tests/runtime/test_island_impulses.py keeps
+    that problem); now every step solves, with no overlap beyond the tolerance."""
+    run = runtime.simulate(falling_pile(50, seed=7), duration=0.7, dt=H, method=TS)
+    assert run.min_gap.min() >= -settings.PROJECTION_TOL * settings.TOUCH
+
+
 def test_reruns_are_identical():
     scene = falling_pile(12)
     a = runtime.simulate(scene, duration=0.4, dt=H, method=TS)

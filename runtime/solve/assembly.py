@@ -300,6 +300,17 @@ def _solve_one(A, b, held, tol):
 
 
 @njit
+def island_scratch(offsets, limit):
+    """An (s, s) array for A of every island of at most ``limit`` contacts, s the largest such."""
+    largest = 0
+    for g in range(offsets.size - 1):
+        size = offsets[g + 1] - offsets[g]
+        if size <= limit:
+            largest = max(largest, size)
+    return np.empty((largest, largest))
+
+
+@njit
 def solve_small_islands(
     jac,
     body1,
@@ -321,12 +332,7 @@ def solve_small_islands(
     ``ok[g]`` whether island g was solved (False: larger than the limit, or the guess failed;
     the caller solves it)."""
     free_rates(jac, body1, body2, bias, free_acc, rates)
-    largest = 0
-    for g in range(offsets.size - 1):
-        size = offsets[g + 1] - offsets[g]
-        if size <= limit:
-            largest = max(largest, size)
-    A = np.empty((largest, largest))
+    A = island_scratch(offsets, limit)
     for g in range(offsets.size - 1):
         start, stop = offsets[g], offsets[g + 1]
         if stop - start > limit:

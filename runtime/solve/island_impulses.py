@@ -30,6 +30,7 @@ from runtime.solve.assembly import (
     dense_lcp,
     island_csr,
     island_matrix,
+    island_scratch,
     solve_with_guess,
 )
 from runtime.solve.islands import body_islands, contact_islands, grouped
@@ -76,17 +77,12 @@ def _diagonal_entries(indices: np.ndarray, indptr: np.ndarray) -> np.ndarray:
 def _solve_islands(
     jac, body1, body2, inv_mass, fixed, offsets, b, guess, p, ok, eps, limit, sparse
 ):
-    """Every island in one compiled call: one row in closed form, others from the guess (one
-    Cholesky factorization: of the envelope in a fill-reducing order from ``sparse`` contacts
-    on, dense below) or else, up to ``limit`` contacts, by the dense solver; ``guess``
-    gets the clamped set, ``ok[g]`` whether island g was solved here (not: a miss above the limit, or no
-    solution -- the caller's sparse path then solves it or names the failure)."""
-    largest = 0
-    for g in range(offsets.size - 1):
-        size = offsets[g + 1] - offsets[g]
-        if size <= limit:
-            largest = max(largest, size)
-    A = np.empty((largest, largest))
+    """Every island in one compiled call: one row in closed form; from ``sparse`` contacts on,
+    block pivoting from the guess on the envelope factor (:func:`_warm_envelope`); below it the
+    guess by one dense Cholesky factorization; else, up to ``limit`` contacts, the dense solver.
+    ``guess`` gets the clamped set, ``ok[g]`` whether island g was solved here (not: a miss
+    above the limit, or no solution -- the caller then solves it or names the failure)."""
+    A = island_scratch(offsets, limit)
     tol = settings.LCP_TOL
     for g in range(offsets.size - 1):
         start, stop = offsets[g], offsets[g + 1]

@@ -75,7 +75,7 @@ def test_the_velocities_after_the_impulses_are_the_least_distance_ones(
 ):
     """Every guess (none, all, random) gives the oracle's velocities to 1e-7 of the velocity
     change's size (the regularisation's compliance is ~1e-9 of it); p >= 0 and the LCP's
-    conditions hold. (12 x 9 has 282 rows: above settings.DENSE_ISLAND, the sparse paths.)"""
+    conditions hold. (12 x 9 has 293 rows: above settings.DENSE_ISLAND, the sparse paths.)"""
     J, inverse, vf, b, inverse_mass, fixed = _problem(long_row, rows, seed, open_fraction)
     n = J.shape[1] // 3
     body1, body2, jac = _rows(J, n)

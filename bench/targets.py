@@ -199,10 +199,10 @@ def main(argv: list[str] | None = None) -> int:
         status = "ok" if not p["error"] else f"FAILED: {p['error'][:80]}"
         if not p["error"] and p["reached"] < p["duration"] - 1e-9:
             status = f"stopped at t = {p['reached']:g} s (a {p['wall']:.0f} s budget)"
-        how = "time-stepping" if p["method"] == TIME_STEPPING else f"{p['impacts']} impacts"
+        impacts = "" if p["method"] == TIME_STEPPING else f"{p['impacts']} impacts, "
         lines.append(
             f"| {p['scene']}, {p['duration']:g} s at dt = 1 ms, {p['method']} | {p['wall']:.2f} s, "
-            f"{how}, penetration {p['penetration']:.1g} m, {status} | "
+            f"{impacts}penetration {p['penetration']:.1g} m, {status} | "
             f"{1e3 * p['pymunk']:.0f} ms | {p['wall'] / p['pymunk']:.0f}x | <= 30x, no failure, "
             "penetration <= 1e-9 m |"
         )

@@ -253,7 +253,7 @@ ANGLE_WRAP = 1e3  # rad: angles beyond this are wrapped to (-pi, pi] between ste
 IMPULSE_REGULARISATION = 1e-9  # relative to A_ii: added to the diagonal of a time step's impulse
 # LCP (runtime.solve.island_impulses), making A positive definite: a pile's dependent rows with
 # a b out of A's range left the dense solver "infeasible" on solvable problems. It is a
-# compliance: a held contact moves by h x 1e-9 x A_ii x p a step (1e-14 m for a 1 kg disc under
+# compliance: a held contact moves by h x 1e-9 x A_ii x p a step (1e-13 m for a 1 kg disc under
 # a 5 kg column at 1 ms), and a dependent set shares its impulse as the least-norm solution does
 SPARSE_WARM = 24  # contacts: a time step's islands from this size are solved by block pivoting
 # from their guessed clamped set with the envelope factor in a fill-reducing order

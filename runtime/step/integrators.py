@@ -45,9 +45,8 @@ def rk4(rhs: Rhs, q: np.ndarray, v: np.ndarray, h: float, a1: np.ndarray) -> Sta
 
 FIXED_STEP = {"euler": euler, "midpoint": midpoint, "rk4": rk4}
 ADAPTIVE = {"rk45": "RK45", "dop853": "DOP853"}
-TIME_STEPPING = (
-    "time-stepping"  # one impulse LCP a step, no located events (runtime.step.time_stepping)
-)
+# one impulse LCP a step, no located events (runtime.step.time_stepping)
+TIME_STEPPING = "time-stepping"
 METHODS = (*FIXED_STEP, *ADAPTIVE, TIME_STEPPING)
 
 

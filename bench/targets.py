@@ -35,6 +35,7 @@ from bench.machine import cpu
 from bench.markdown import replace_section
 from bench.scenes import falling_pile
 from bench.steps import pile_scene
+from runtime.step.collision import Collision
 from runtime.step.integrators import TIME_STEPPING
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -131,7 +132,7 @@ def falling(n: int, quick: bool, budget: float = math.inf, method: str = "rk4") 
 def _deepest(scene, poses: list[np.ndarray]) -> float:
     """The deepest overlap (m, >= 0) of any touching pair at any of the poses, by the contact
     finder with no margin."""
-    finder = runtime.World(scene).stepper.collision
+    finder = Collision(scene)
     depth = 0.0
     for q in poses:
         contacts = finder.swept(q, np.zeros(len(q)), None)

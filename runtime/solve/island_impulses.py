@@ -57,8 +57,9 @@ def solve_impulses(
                    settings.SPARSE_WARM)  # fmt: skip
     for g in np.flatnonzero(~ok):  # large islands whose pivoting cycled, or no solution there
         start, stop = offsets[g], offsets[g + 1]
-        data, indices, indptr = island_csr(jac, b1, b2, inverse_mass, fixed, start, stop)
-        data[_diagonal_entries(indices, indptr)] *= 1.0 + settings.IMPULSE_REGULARISATION
+        data, indices, indptr, _ = _regularised_csr(
+            jac, b1, b2, inverse_mass, fixed, start, stop, settings.IMPULSE_REGULARISATION
+        )
         A = sp.csr_array((data, indices, indptr), shape=(stop - start, stop - start))
         b_g, p_g, guess_g = bo[start:stop], po[start:stop], go[start:stop]
         if not dense_lcp(A.toarray(), b_g.copy(), np.zeros(stop - start, np.bool_), guess_g, p_g):
@@ -68,9 +69,18 @@ def solve_impulses(
     return p, clamped
 
 
-def _diagonal_entries(indices: np.ndarray, indptr: np.ndarray) -> np.ndarray:
-    rows = np.repeat(np.arange(len(indptr) - 1), np.diff(indptr))
-    return np.flatnonzero(indices == rows)
+@njit
+def _regularised_csr(jac, body1, body2, inv_mass, fixed, start, stop, eps):
+    """(data, indices, indptr, diagonal) of the island's A (runtime.solve.assembly.island_csr)
+    with its diagonal scaled by 1 + eps."""
+    data, indices, indptr = island_csr(jac, body1, body2, inv_mass, fixed, start, stop)
+    diagonal = np.empty(stop - start)
+    for r in range(stop - start):
+        for q in range(indptr[r], indptr[r + 1]):
+            if indices[q] == r:
+                data[q] *= 1.0 + eps
+                diagonal[r] = data[q]
+    return data, indices, indptr, diagonal
 
 
 @njit
@@ -123,14 +133,10 @@ def _warm_envelope(jac, body1, body2, inv_mass, fixed, start, stop, b, guess, p,
     (half the solves of a landing 50-disc pile), the dense solver (~0.7 ms) were most of its
     time step; an envelope round costs ~0.06 ms. A set that needs more rounds (the exchange can
     cycle) goes to the dense solver, which has the fallbacks."""
-    data, indices, indptr = island_csr(jac, body1, body2, inv_mass, fixed, start, stop)
+    data, indices, indptr, diag = _regularised_csr(
+        jac, body1, body2, inv_mass, fixed, start, stop, eps
+    )
     K = stop - start
-    diag = np.empty(K)
-    for r in range(K):
-        for q in range(indptr[r], indptr[r + 1]):
-            if indices[q] == r:
-                data[q] *= 1.0 + eps
-                diag[r] = data[q]
     order = env.reverse_cuthill_mckee(indptr, indices)
     joint = np.zeros(K, np.bool_)
     tol = settings.LCP_TOL

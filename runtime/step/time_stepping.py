@@ -40,7 +40,6 @@ import numpy as np
 from runtime import settings
 from runtime.collide import sweep
 from runtime.collide.contact_keys import key_set, member
-from runtime.collide.contact_set import Contacts
 from runtime.solve.assembly import add_forces
 from runtime.solve.island_impulses import solve_impulses
 from runtime.step.classify import OPEN, RESTING, Frame
@@ -72,7 +71,9 @@ class TimeStepper(Stepper):
         """(poses, velocities) after h, and what the step did (its contacts and their mean
         forces p / h; the kinetic energy the impulses took out)."""
         free = v + h * self.forces.free_acceleration
-        contacts, keys = self._contacts(q, free, h)
+        margin = sweep.margins(free, h, self.radii, self.moving, self.gravity)
+        contacts = self.collision.swept(q, margin, None)
+        keys = self.collision.keys(contacts)
         rows = self.evaluator.rows(contacts, q, free)
         p = self._impulses(contacts, keys, rows, h)
         after = free + self._moved(contacts, rows.jacobian, p)
@@ -80,16 +81,11 @@ class TimeStepper(Stepper):
         end = self._project(q + h * after, after)
         loss = self.bodies.kinetic(free) - self.bodies.kinetic(after)
         modes = np.where(p > 0.0, RESTING, OPEN)
-        frame = Frame(contacts, keys, rows, modes, after, self.reach, p, loss)
+        frame = Frame(contacts, keys, rows, modes, after, margin, p, loss)
         report = StepReport(frame, frame.resting, p[frame.resting] / h, impact_loss=loss)
         return end, after, report
 
     # -- stages ----------------------------------------------------------------------------
-
-    def _contacts(self, q, free, h) -> tuple[Contacts, np.ndarray]:
-        margin = sweep.margins(free, h, self.radii, self.moving, self.gravity)
-        contacts = self.collision.swept(q, margin, None)
-        return contacts, self.collision.keys(contacts)
 
     def _impulses(self, contacts, keys, rows, h) -> np.ndarray:
         """Stage 3: the impulse of every contact (see the module docstring)."""

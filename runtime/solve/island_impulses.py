@@ -57,12 +57,15 @@ def solve_impulses(
                    settings.SPARSE_WARM)  # fmt: skip
     for g in np.flatnonzero(~ok):  # large islands whose pivoting cycled, or no solution there
         start, stop = offsets[g], offsets[g + 1]
+        dense_tried = stop - start <= settings.DENSE_ISLAND  # (and failed) in the call above
         data, indices, indptr, _ = _regularised_csr(
             jac, b1, b2, inverse_mass, fixed, start, stop, settings.IMPULSE_REGULARISATION
         )
         A = sp.csr_array((data, indices, indptr), shape=(stop - start, stop - start))
         b_g, p_g, guess_g = bo[start:stop], po[start:stop], go[start:stop]
-        if not dense_lcp(A.toarray(), b_g.copy(), np.zeros(stop - start, np.bool_), guess_g, p_g):
+        if dense_tried or not dense_lcp(
+            A.toarray(), b_g.copy(), np.zeros(stop - start, np.bool_), guess_g, p_g
+        ):
             p_g[:], guess_g[:] = lcp.solve_warm(A, b_g, None, guess_g)  # or names the failure
     p, clamped = np.empty(m), np.empty(m, np.bool_)
     p[order], clamped[order] = po, go

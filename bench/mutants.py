@@ -70,6 +70,7 @@ COASTS = "tests/runtime/test_coast.py"
 # fmt: off
 JUNCTIONS = "tests/runtime/test_junctions.py"
 TIME_STEPPING = "tests/runtime/test_time_stepping.py tests/runtime/test_island_impulses.py"
+PRIMAL = "tests/runtime/test_lcp_primal.py"
 TS = "runtime/step/time_stepping.py"
 MUTANTS: list[Mutant] = [
     # derive/: the proofs must fail (issue #18: a wrong bias term used to pass them)
@@ -235,6 +236,8 @@ MUTANTS: list[Mutant] = [
     Mutant("time-stepping:unprojected", TS, "if gap.min() >= -self.tolerance:", "if True:", TIME_STEPPING, "the overlaps a step leaves are never projected out (the velocity LCP holds only the linearised gaps)"),
     Mutant("time-stepping:explicit-euler", TS, "end = self._project(q + h * after, after)", "end = self._project(q + h * v, after)", TIME_STEPPING, "positions advanced with the velocities before the step (explicit Euler): falls by the wrong recurrence, and contacts close by the old velocity"),
     Mutant("island-impulses:unregularised", "runtime/settings.py", "IMPULSE_REGULARISATION = 1e-9 ", "IMPULSE_REGULARISATION = 0.0 ", TIME_STEPPING, "the impulse LCP unregularised: a pile's dependent rows with b out of A's range end \"infeasible\" (the landing 50-disc pile, seed 7, step 630)"),
+    Mutant("lcp-primal:block-kept", "runtime/solve/lcp_primal.py", "block = max(1, last // 2) if undone", "block = block if undone", PRIMAL, "the primal active-set method never halves the block of rows it clamps: rows added together come straight out again, for ever"),
+    Mutant("lcp-primal:full-step", "runtime/solve/lcp_primal.py", "        if alpha < 1.0:  # step", "        if False:  # step", PRIMAL, "the primal active-set method takes the minimiser over the free rows even where it has negative forces"),
 ]
 # fmt: on
 

@@ -259,9 +259,12 @@ SPARSE_WARM = 24  # contacts: a time step's islands from this size are solved by
 # from their guessed clamped set with the envelope factor in a fill-reducing order
 # (runtime.solve.island_impulses), smaller ones from the guess with the dense factor; a miss
 # goes to the dense solver either way
-SPARSE_ROUNDS = 25  # factorizations of that block pivoting before the dense solver takes over
-# (measured: a landing 50-disc pile's guess, off by a few rows, needs 2-4; a landing 200-disc
-# pile's, off by 50-80 of 400, 7-22 -- or the exchange of every violated row at once cycles)
+SPARSE_ROUNDS = 25  # factorizations of that block pivoting before an island above DENSE_ISLAND
+# goes to the primal active-set method and a smaller one to the dense solver (measured: a landing
+# 50-disc pile's guess, off by a few rows, needs 2-4; a landing 200-disc pile's, off by 50-80 of
+# 400, 7-22 -- or the exchange of every violated row at once cycles)
+PRIMAL_FACTORIZATIONS = 3000  # the primal active-set method's limit (runtime.solve.lcp_primal)
+# before the dense solver takes over (measured: 59-1,910 on 40 captured islands of 147-541 rows)
 PROJECTION_TOL = 0.1  # relative to the touch gap (TOUCH, 1e-9 m, or the scene's contact
 # tolerance if smaller): a time step ends with no overlap deeper than this (1e-10 m; issue #12 asks
 # <= 1e-9 m); deeper ones are projected out (Newton on the gaps, each round an LCP) over the

@@ -34,6 +34,7 @@ from runtime.solve.assembly import (
     solve_with_guess,
 )
 from runtime.solve.islands import body_islands, contact_islands, grouped
+from runtime.solve.lcp_primal import active_set
 from runtime.solve.lcp_sparse import _held, _set_up, _tear_down
 
 
@@ -128,14 +129,16 @@ def _solve_islands(
 
 @njit
 def _warm_envelope(jac, body1, body2, inv_mass, fixed, start, stop, b, guess, p, eps):
-    """Whether block pivoting from the guessed clamped set solves the island within
-    settings.SPARSE_ROUNDS factorizations (p and guess then written): A_GG factored within its
-    envelope in reverse Cuthill-McKee order; each round clamps the free rows with A p + b < 0 and
-    frees the clamped ones with p < 0. Why: a pile's A has a handful of entries a row; the dense
+    """Whether the island is solved here (p and guess then written): by block pivoting from the
+    guessed clamped set (:func:`_pivot`), A_GG factored within its envelope in reverse
+    Cuthill-McKee order. Why: a pile's A has a handful of entries a row; the dense
     factorization of a 120-row guess (~0.4 ms) and, where the guess had changed by a few rows
     (half the solves of a landing 50-disc pile), the dense solver (~0.7 ms) were most of its
-    time step; an envelope round costs ~0.06 ms. A set that needs more rounds (the exchange can
-    cycle) goes to the dense solver, which has the fallbacks."""
+    time step; an envelope round costs ~0.06 ms. A set that needs more than
+    settings.SPARSE_ROUNDS rounds (the exchange can cycle on a packed pile's near-dependent rows)
+    goes, in an island above settings.DENSE_ISLAND, to the primal active-set method on the same
+    factor (runtime.solve.lcp_primal: it does not cycle; the dense solver took 40-300 ms on such
+    islands), else -- or if that runs out -- to the dense solver, which has the fallbacks."""
     data, indices, indptr, diag = _regularised_csr(
         jac, body1, body2, inv_mass, fixed, start, stop, eps
     )
@@ -148,28 +151,39 @@ def _warm_envelope(jac, body1, body2, inv_mass, fixed, start, stop, b, guess, p,
     )
     if dead.any():
         return False
+    start_set, fs = member.copy(), np.empty(K)
+    if not _pivot(S, envelope, bs, js, live, member, fs):
+        if K <= settings.DENSE_ISLAND or not active_set(S, envelope, bs, live, start_set, fs):
+            return False
+    held = _held(S, bs, js, fs, tol, live)
+    f, clamped = _tear_down(order, d, fs, held, live, joint, b, tol)
+    p[:] = f
+    guess[:] = clamped
+    return True
+
+
+@njit
+def _pivot(S, envelope, b, joint, live, member, f):
+    """Block pivoting from ``member`` for up to settings.SPARSE_ROUNDS factorizations: each
+    round clamps the free rows with S f + b < 0 and frees the clamped ones with f < 0. Returns
+    whether it ended on a valid solution (f then written)."""
     first, offset, values = envelope
+    K = b.size
     L, kept = np.empty(values.size), np.empty(K, np.bool_)
-    rhs, fs, a, tol_a = np.empty(K), np.empty(K), np.empty(K), np.empty(K)
+    rhs, a, tol_a = np.empty(K), np.empty(K), np.empty(K)
+    tol = settings.LCP_TOL
     for _ in range(settings.SPARSE_ROUNDS):
         env.factor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept)
         for r in range(K):
-            rhs[r] = -bs[r] if kept[r] else 0.0
-        env.solve(first, offset, L, rhs, fs)
-        env.residual(S[0], S[1], S[2], bs, fs, tol, a, tol_a)
+            rhs[r] = -b[r] if kept[r] else 0.0
+        env.solve(first, offset, L, rhs, f)
+        env.residual(S[0], S[1], S[2], b, f, tol, a, tol_a)
         exchanged = False
         for r in range(K):
-            if member[r] and fs[r] < 0.0:
+            if member[r] and f[r] < 0.0:
                 member[r], exchanged = False, True
             elif not member[r] and live[r] and a[r] < -tol_a[r]:
                 member[r], exchanged = True, True
-        if exchanged:
-            continue
-        if not env.valid(S[0], S[1], S[2], bs, js, fs, tol, a, tol_a):
-            return False
-        held = _held(S, bs, js, fs, tol, live)
-        f, clamped = _tear_down(order, d, fs, held, live, joint, b, tol)
-        p[:] = f
-        guess[:] = clamped
-        return True
+        if not exchanged:
+            return env.valid(S[0], S[1], S[2], b, joint, f, tol, a, tol_a)
     return False

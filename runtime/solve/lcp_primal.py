@@ -36,6 +36,7 @@ def active_set(S, envelope, b, live, member, f):
     y, rhs, a, tol_a = np.empty(K), np.empty(K), np.empty(K), np.empty(K)
     L, kept = np.empty(values.size), np.empty(K, np.bool_)
     added, joint = np.zeros(K, np.bool_), np.zeros(K, np.bool_)
+    score, rows = np.empty(K), np.empty(K, np.int64)  # the violated rows and how far
     tol = settings.LCP_TOL
     f[:] = 0.0
     for i in range(K):
@@ -77,17 +78,12 @@ def active_set(S, envelope, b, live, member, f):
         violated = 0
         for i in range(K):
             if not kept[i] and live[i] and a[i] < -tol_a[i]:
+                score[violated], rows[violated] = a[i] / tol_a[i], i
                 violated += 1
         if violated == 0:
             return env.valid(indptr, indices, data, b, joint, f, tol, a, tol_a)
-        score, rows = np.empty(violated), np.empty(violated, np.int64)
-        c = 0
-        for i in range(K):
-            if not kept[i] and live[i] and a[i] < -tol_a[i]:
-                score[c], rows[c] = a[i] / tol_a[i], i
-                c += 1
         last = min(block, violated)
-        for q in np.argsort(score, kind="mergesort")[:last]:  # the most violated first
+        for q in np.argsort(score[:violated], kind="mergesort")[:last]:  # most violated first
             member[rows[q]], added[rows[q]] = True, True
         pending = True
     return False

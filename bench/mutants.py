@@ -236,8 +236,9 @@ MUTANTS: list[Mutant] = [
     Mutant("time-stepping:unprojected", TS, "if gap.min() >= -self.tolerance:", "if True:", TIME_STEPPING, "the overlaps a step leaves are never projected out (the velocity LCP holds only the linearised gaps)"),
     Mutant("time-stepping:explicit-euler", TS, "end = self._project(q + h * after, after)", "end = self._project(q + h * v, after)", TIME_STEPPING, "positions advanced with the velocities before the step (explicit Euler): falls by the wrong recurrence, and contacts close by the old velocity"),
     Mutant("island-impulses:unregularised", "runtime/settings.py", "IMPULSE_REGULARISATION = 1e-9 ", "IMPULSE_REGULARISATION = 0.0 ", TIME_STEPPING, "the impulse LCP unregularised: a pile's dependent rows with b out of A's range end \"infeasible\" (the landing 50-disc pile, seed 7, step 630)"),
-    Mutant("lcp-primal:block-kept", "runtime/solve/lcp_primal.py", "block = max(1, last // 2) if undone", "block = block if undone", PRIMAL, "the primal active-set method never halves the block of rows it clamps: rows added together come straight out again, for ever"),
-    Mutant("lcp-primal:full-step", "runtime/solve/lcp_primal.py", "        if alpha < 1.0:  # step", "        if False:  # step", PRIMAL, "the primal active-set method takes the minimiser over the free rows even where it has negative forces"),
+    Mutant("lcp-primal:full-step", "runtime/solve/lcp_primal.py", "        if count > 0:  # y leaves f >= 0", "        if False:  # y leaves f >= 0", PRIMAL, "the primal active-set method takes the minimiser over the free rows even where it has negative forces"),
+    Mutant("lcp-primal:search-curvature", "runtime/solve/lcp_primal.py", "p[j] * s_jj - 2.0 * Sp[j]", "p[j] * s_jj + 2.0 * Sp[j]", PRIMAL, "the projected search updates q's curvature along its path with the wrong sign where a row stops"),
+    Mutant("lcp-primal:refactor-late", "runtime/solve/lcp_envelope.py", "    for i in range(start, m):", "    for i in range(start + 1, m):", PRIMAL, "the envelope factor is redone from the row after the first one whose membership changed"),
 ]
 # fmt: on
 

@@ -255,16 +255,13 @@ IMPULSE_REGULARISATION = 1e-9  # relative to A_ii: added to the diagonal of a ti
 # a b out of A's range left the dense solver "infeasible" on solvable problems. It is a
 # compliance: a held contact moves by h x 1e-9 x A_ii x p a step (1e-13 m for a 1 kg disc under
 # a 5 kg column at 1 ms), and a dependent set shares its impulse as the least-norm solution does
-SPARSE_WARM = 24  # contacts: a time step's islands from this size are solved by block pivoting
-# from their guessed clamped set with the envelope factor in a fill-reducing order
-# (runtime.solve.island_impulses), smaller ones from the guess with the dense factor; a miss
+SPARSE_WARM = 24  # contacts: a time step's islands from this size are solved by the primal
+# active-set method from their guessed clamped set with the envelope factor in a fill-reducing
+# order (runtime.solve.island_impulses), smaller ones from the guess with the dense factor; a miss
 # goes to the dense solver either way
-SPARSE_ROUNDS = 25  # factorizations of that block pivoting before an island above DENSE_ISLAND
-# goes to the primal active-set method and a smaller one to the dense solver (measured: a landing
-# 50-disc pile's guess, off by a few rows, needs 2-4; a landing 200-disc pile's, off by 50-80 of
-# 400, 7-22 -- or the exchange of every violated row at once cycles)
 PRIMAL_FACTORIZATIONS = 3000  # the primal active-set method's limit (runtime.solve.lcp_primal)
-# before the dense solver takes over (measured: 59-1,910 on 40 captured islands of 147-541 rows)
+# before the dense solver takes over (measured: the 657 islands of 129-551 rows of the falling
+# 200-disc pile took 46 factorizations each on average, the most 306)
 PROJECTION_TOL = 0.1  # relative to the touch gap (TOUCH, 1e-9 m, or the scene's contact
 # tolerance if smaller): a time step ends with no overlap deeper than this (1e-10 m; issue #12 asks
 # <= 1e-9 m); deeper ones are projected out (Newton on the gaps, each round an LCP) over the

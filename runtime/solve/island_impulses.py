@@ -9,7 +9,7 @@ and the floor) meet an inconsistent b. The dense solver can then end "infeasible
 that has solutions (measured: the landing 50-disc pile of seed 7 at step 630, kept in
 tests/runtime/data/impulse_lcp_dependent.npz; its 200-disc pile tunnelled). A relative
 regularisation settings.IMPULSE_REGULARISATION of A's diagonal makes every island's A positive
-definite, so each has one solution, found by pivoting; what it adds is a compliance: a held
+definite, so each has one solution; what it adds is a compliance: a held
 contact opens or closes by h x regularisation x A_ii x p per step (2e-13 m for a 1 kg disc
 carrying ten others at 1 ms), far below the projection's tolerance.
 """
@@ -56,7 +56,7 @@ def solve_impulses(
     _solve_islands(jac, b1, b2, inverse_mass, fixed, offsets, bo, go, po, ok,
                    settings.IMPULSE_REGULARISATION, settings.DENSE_ISLAND,
                    settings.SPARSE_WARM)  # fmt: skip
-    for g in np.flatnonzero(~ok):  # large islands whose pivoting cycled, or no solution there
+    for g in np.flatnonzero(~ok):  # large islands where the primal method ran out, or no solution
         start, stop = offsets[g], offsets[g + 1]
         dense_tried = stop - start <= settings.DENSE_ISLAND  # (and failed) in the call above
         data, indices, indptr, _ = _regularised_csr(
@@ -92,8 +92,9 @@ def _solve_islands(
     jac, body1, body2, inv_mass, fixed, offsets, b, guess, p, ok, eps, limit, sparse
 ):
     """Every island in one compiled call: one row in closed form; from ``sparse`` contacts on,
-    block pivoting from the guess on the envelope factor (:func:`_warm_envelope`); below it the
-    guess by one dense Cholesky factorization; else, up to ``limit`` contacts, the dense solver.
+    the primal active-set method from the guess on the envelope factor (:func:`_warm_envelope`);
+    below it the guess by one dense Cholesky factorization; else, up to ``limit`` contacts, the
+    dense solver.
     ``guess`` gets the clamped set, ``ok[g]`` whether island g was solved here (not: a miss
     above the limit, or no solution -- the caller then solves it or names the failure)."""
     A = island_scratch(offsets, limit)
@@ -129,16 +130,17 @@ def _solve_islands(
 
 @njit
 def _warm_envelope(jac, body1, body2, inv_mass, fixed, start, stop, b, guess, p, eps):
-    """Whether the island is solved here (p and guess then written): by block pivoting from the
-    guessed clamped set (:func:`_pivot`), A_GG factored within its envelope in reverse
-    Cuthill-McKee order. Why: a pile's A has a handful of entries a row; the dense
-    factorization of a 120-row guess (~0.4 ms) and, where the guess had changed by a few rows
-    (half the solves of a landing 50-disc pile), the dense solver (~0.7 ms) were most of its
-    time step; an envelope round costs ~0.06 ms. A set that needs more than
-    settings.SPARSE_ROUNDS rounds (the exchange can cycle on a packed pile's near-dependent rows)
-    goes, in an island above settings.DENSE_ISLAND, to the primal active-set method on the same
-    factor (runtime.solve.lcp_primal: it does not cycle; the dense solver took 40-300 ms on such
-    islands), else -- or if that runs out -- to the dense solver, which has the fallbacks."""
+    """Whether the island is solved here (p and guess then written): by the primal active-set
+    method (runtime.solve.lcp_primal) from the guessed clamped set, A factored within its
+    envelope in reverse Cuthill-McKee order. Why: a pile's A has a handful of entries a row; the
+    dense factorization of a 120-row guess (~0.4 ms) and the dense solver (~0.7 ms) were most of
+    its time step, an envelope factorization costs ~0.06 ms. Why not block pivoting (exchanging
+    every violated row at once, the way this was solved up to session 28): it cycles on a packed
+    pile's near-dependent rows (72 of 505 islands of a landing 50-disc pile, 406 of a 200-disc
+    pile's 400-540-row islands), and even where it ended the primal method was faster (side by
+    side, the falling 50-disc pile: the island solves 0.09 s against 0.25 s). If the method runs
+    out, the dense solver, which has the fallbacks, takes an island up to
+    settings.DENSE_ISLAND rows; the caller the larger ones."""
     data, indices, indptr, diag = _regularised_csr(
         jac, body1, body2, inv_mass, fixed, start, stop, eps
     )
@@ -151,39 +153,11 @@ def _warm_envelope(jac, body1, body2, inv_mass, fixed, start, stop, b, guess, p,
     )
     if dead.any():
         return False
-    start_set, fs = member.copy(), np.empty(K)
-    if not _pivot(S, envelope, bs, js, live, member, fs):
-        if K <= settings.DENSE_ISLAND or not active_set(S, envelope, bs, live, start_set, fs):
-            return False
+    fs = np.empty(K)
+    if not active_set(S, envelope, bs, live, member, fs):
+        return False
     held = _held(S, bs, js, fs, tol, live)
     f, clamped = _tear_down(order, d, fs, held, live, joint, b, tol)
     p[:] = f
     guess[:] = clamped
     return True
-
-
-@njit
-def _pivot(S, envelope, b, joint, live, member, f):
-    """Block pivoting from ``member`` for up to settings.SPARSE_ROUNDS factorizations: each
-    round clamps the free rows with S f + b < 0 and frees the clamped ones with f < 0. Returns
-    whether it ended on a valid solution (f then written)."""
-    first, offset, values = envelope
-    K = b.size
-    L, kept = np.empty(values.size), np.empty(K, np.bool_)
-    rhs, a, tol_a = np.empty(K), np.empty(K), np.empty(K)
-    tol = settings.LCP_TOL
-    for _ in range(settings.SPARSE_ROUNDS):
-        env.factor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept)
-        for r in range(K):
-            rhs[r] = -b[r] if kept[r] else 0.0
-        env.solve(first, offset, L, rhs, f)
-        env.residual(S[0], S[1], S[2], b, f, tol, a, tol_a)
-        exchanged = False
-        for r in range(K):
-            if member[r] and f[r] < 0.0:
-                member[r], exchanged = False, True
-            elif not member[r] and live[r] and a[r] < -tol_a[r]:
-                member[r], exchanged = True, True
-        if not exchanged:
-            return env.valid(S[0], S[1], S[2], b, joint, f, tol, a, tol_a)
-    return False

@@ -120,9 +120,17 @@ def factor(first, offset, values, member, dependent, L, kept):
     below ``dependent`` of its diagonal plus its rounding (runtime.solve.lcp_factor.trial) --
     it depends on the rows kept before it -- and rows with S_ii = 0. Returns the number of rows
     kept and the smallest pivot / diagonal among them (1 if none)."""
+    return refactor(first, offset, values, member, dependent, L, kept, 0)
+
+
+@njit
+def refactor(first, offset, values, member, dependent, L, kept, start):
+    """:func:`factor` from row ``start`` on, rows before it (and ``kept`` there) left as the
+    last factorization made them: a factor row depends only on the rows before it, so a set
+    changed from ``start`` on needs no more (count and smallest then cover rows from ``start``)."""
     m = first.size
     count, smallest = 0, 1.0
-    for i in range(m):
+    for i in range(start, m):
         base, lo = offset[i], first[i]
         diag = values[base + i - lo]
         kept[i] = False

@@ -1,20 +1,26 @@
-"""A primal active-set method for a large island's definite LCP, on the envelope factor.
+"""A primal active-set method for an island's definite impulse LCP, on the envelope factor.
 
     f >= 0,  a = S f + b >= 0,  f . a = 0   <=>   min q(f) = 1/2 f.S f + b.f  over f >= 0
 
-(S: the scaled, regularised A of an island, positive definite). Why: block pivoting, which
-exchanges every violated row at once, cycles on a packed pile's near-dependent rows -- their
+(S: the scaled, regularised A of an island, positive definite). Why not block pivoting, which
+exchanges every violated row at once: it cycles on a packed pile's near-dependent rows -- their
 forces on a trial set are rounding amplified ~1e9 times and their signs decide the exchanges
-(bench/README.md, session 28) -- and the dense solver that ends it costs 40-300 ms on the
-400-540-row islands of a landing 200-disc pile. This method keeps f feasible and q never rises,
-so it does not cycle: minimise q over the free set W (one envelope factorization);
-if that point leaves f >= 0, step towards it until the first force reaches 0 and free that row
-(q falls); otherwise take it and clamp rows with a < 0 -- a block of them, halved whenever
-rows just added come straight out again (one row at a time always lowers q). Its stopping test
-is the solver's own (runtime.solve.lcp_envelope.valid): the last point solves S_WW f_W = -b_W
-with a backward-stable factor, so its residuals meet the row tolerances even where its forces
-are ill-determined. Measured on 40 captured islands of 147-541 rows where block pivoting had
-cycled: all 40 solved, 59-1,910 factorizations, 1.56 s against the dense solver's 2.92 s.
+(bench/README.md, session 28). This method keeps f feasible and q never rises, so it does not
+cycle. It starts from the minimiser over the guessed set, clipped at 0. Each round minimises q
+over the free set W (one envelope factorization, redone only from the first row whose
+membership changed); if that point y leaves f >= 0, it moves f along the projected path
+max(f + t (y - f), 0) to the path's first minimiser of q, freeing the rows that reach 0; if not,
+it takes y and clamps every row with a < 0. After such a round q falls at once along the next
+path (its slope at t = 0 is sum a_i y_i over the clamped rows, < 0 since y over the larger set
+lowers q), so q falls between any two visits of a minimiser over a set: no set comes back. A
+round that cannot lower q (rounding) ends the method; the dense solver then takes the island.
+Its stopping test is the solver's own (runtime.solve.lcp_envelope.valid): the last point solves
+S_WW f_W = -b_W with a backward-stable factor, so its residuals meet the row tolerances even
+where its forces are ill-determined. Measured on the 657 islands of 129-551 rows of the falling 200-disc pile: 46
+factorizations each on average (the most 306), 2.0 s in all. On session 28's 40 captured islands
+where block pivoting had cycled: 2,732 factorizations, 0.19 s, against 18,333 and 1.47 s for that
+session's form of it (from f = 0, which discarded the guess; one row freed a step; every
+factorization whole; the block halved whenever an added row came straight out).
 """
 
 from __future__ import annotations
@@ -29,61 +35,109 @@ from runtime.solve import lcp_envelope as env
 @njit
 def active_set(S, envelope, b, live, member, f):
     """Whether the method ends on a valid solution within settings.PRIMAL_FACTORIZATIONS,
-    starting with the rows of ``member`` free (f written; ``member`` changed)."""
+    starting from the rows of ``member`` (f written; ``member`` changed)."""
     indptr, indices, data = S
     first, offset, values = envelope
     K = b.size
-    y, rhs, a, tol_a = np.empty(K), np.empty(K), np.empty(K), np.empty(K)
-    L, kept = np.empty(values.size), np.empty(K, np.bool_)
-    added, joint = np.zeros(K, np.bool_), np.zeros(K, np.bool_)
-    score, rows = np.empty(K), np.empty(K, np.int64)  # the violated rows and how far
+    y, p, g, Sp = np.empty(K), np.empty(K), np.empty(K), np.empty(K)
+    a, tol_a = np.empty(K), np.empty(K)
+    L, kept, factored = np.empty(values.size), np.empty(K, np.bool_), np.zeros(K, np.bool_)
+    breaks, rows, joint = np.empty(K), np.empty(K, np.int64), np.zeros(K, np.bool_)
     tol = settings.LCP_TOL
-    f[:] = 0.0
     for i in range(K):
         member[i] = member[i] and live[i]
-    block, last, pending = K, K, False  # rows clamped at once, the last block, its outcome open
+    env.factor(first, offset, values, factored, settings.LCP_DEPENDENT, L, kept)  # of no row
+    _minimiser(first, offset, values, b, member, factored, L, kept, y)  # the start: clipped at 0
+    for i in range(K):
+        f[i] = max(y[i], 0.0)
+        member[i] = f[i] > 0.0
     for _ in range(settings.PRIMAL_FACTORIZATIONS):
-        env.factor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept)
+        _minimiser(first, offset, values, b, member, factored, L, kept, y)
+        count = 0
         for i in range(K):
-            rhs[i] = -b[i] if kept[i] else 0.0
-        env.solve(first, offset, L, rhs, y)  # the minimiser of q over the free rows
-        alpha = 1.0
-        for i in range(K):
-            if kept[i] and y[i] < 0.0:
-                alpha = min(alpha, f[i] / (f[i] - y[i]))
-        if alpha < 1.0:  # step to the first force that reaches 0, free it (and its ties)
-            undone = False
-            for i in range(K):
-                if kept[i] and y[i] < 0.0 and f[i] / (f[i] - y[i]) <= alpha:
-                    undone = undone or added[i]
-                    f[i] = 0.0
-                elif kept[i]:
-                    f[i] += alpha * (y[i] - f[i])
-                else:
-                    f[i] = 0.0
-            if pending:
-                block = max(1, last // 2) if undone and alpha == 0.0 else min(K, 2 * block)
-                pending = False
+            p[i] = y[i] - f[i]
+            if y[i] < 0.0:
+                breaks[count], rows[count] = f[i] / (f[i] - y[i]), i
+                count += 1
+        if count > 0:  # y leaves f >= 0: the projected search, rows that reach 0 freed
+            if _projected_search(S, b, f, p, breaks, rows, count, g, Sp) == 0.0:
+                return False  # no descent (rounding); the caller's dense solver decides
             for i in range(K):
                 member[i] = kept[i] and f[i] > 0.0
-                added[i] = False
             continue
-        if pending:
-            block, pending = min(K, 2 * block), False
         for i in range(K):
-            f[i] = y[i] if kept[i] else 0.0
+            f[i] = y[i]
             member[i] = kept[i]
-            added[i] = False
         env.residual(indptr, indices, data, b, f, tol, a, tol_a)
-        violated = 0
+        violated = False
         for i in range(K):
             if not kept[i] and live[i] and a[i] < -tol_a[i]:
-                score[violated], rows[violated] = a[i] / tol_a[i], i
-                violated += 1
-        if violated == 0:
+                member[i], violated = True, True  # clamped, with f = 0 for now
+        if not violated:
             return env.valid(indptr, indices, data, b, joint, f, tol, a, tol_a)
-        last = min(block, violated)
-        for q in np.argsort(score[:violated], kind="mergesort")[:last]:  # most violated first
-            member[rows[q]], added[rows[q]] = True, True
-        pending = True
     return False
+
+
+@njit
+def _minimiser(first, offset, values, b, member, factored, L, kept, y):
+    """y = the minimiser of q over the rows of ``member`` (0 elsewhere, and at rows the factor
+    leaves out as dependent on the rows before them; ``kept`` says which rows it kept). The
+    factor is redone from the first row whose membership changed since the last one
+    (``factored``: its set), so a step that frees a few rows costs part of a factorization."""
+    start = 0
+    while start < b.size and member[start] == factored[start]:
+        start += 1
+    env.refactor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept, start)
+    factored[:] = member
+    for i in range(b.size):
+        y[i] = -b[i] if kept[i] else 0.0
+    env.solve(first, offset, L, y.copy(), y)
+
+
+@njit
+def _projected_search(S, b, f, p, breaks, rows, count, g, Sp):
+    """Move f to the first minimiser of q along the path max(f + t p, 0), t in [0, 1]
+    (breaks[:count] at ``rows``: where a force reaches 0 and stops); returns that t. Why not
+    stop at the first
+    breakpoint (the textbook step): on a packed pile that frees one row per factorization;
+    the path frees every row whose force q wants at 0, each breakpoint costing one row of S."""
+    indptr, indices, data = S
+    K = b.size
+    slope, curve = 0.0, 0.0  # dq/dt and d2q/dt2 along the path's current piece
+    for i in range(K):
+        s, u = b[i], 0.0
+        for q in range(indptr[i], indptr[i + 1]):
+            s += data[q] * f[indices[q]]
+            u += data[q] * p[indices[q]]
+        g[i], Sp[i] = s, u
+        slope += s * p[i]
+        curve += u * p[i]
+    order = np.argsort(breaks[:count])
+    t, k = 0.0, 0
+    while slope < 0.0:
+        t_next = breaks[order[k]] if k < count else 1.0
+        if curve > 0.0 and -slope / curve < t_next - t:
+            t -= slope / curve
+            break
+        slope += (t_next - t) * curve
+        t = t_next
+        if k == count:
+            break
+        while k < count and breaks[order[k]] <= t:  # stop row j: p_j leaves the direction
+            j = rows[order[k]]
+            k += 1
+            g_j, s_jj = b[j], 0.0
+            for q in range(indptr[j], indptr[j + 1]):
+                c = indices[q]
+                if c == j:
+                    s_jj = data[q]
+                else:
+                    g_j += data[q] * max(f[c] + t * p[c], 0.0)
+            slope -= p[j] * g_j
+            curve += p[j] * (p[j] * s_jj - 2.0 * Sp[j])
+            for q in range(indptr[j], indptr[j + 1]):
+                Sp[indices[q]] -= p[j] * data[q]
+            f[j], p[j] = 0.0, 0.0
+    for i in range(K):
+        f[i] = max(f[i] + t * p[i], 0.0)
+    return t

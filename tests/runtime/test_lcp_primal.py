@@ -21,8 +21,7 @@ from scipy.optimize import lsq_linear
 
 from runtime import settings
 from runtime.solve import lcp_envelope as env
-from runtime.solve.island_impulses import _pivot
-from runtime.solve.lcp_primal import active_set
+from runtime.solve.lcp_primal import _projected_search, active_set
 from runtime.solve.lcp_sparse import _set_up
 
 CYCLING = Path(__file__).parent / "data" / "impulse_lcp_cycling.npz"
@@ -73,15 +72,13 @@ def _check(A: np.ndarray, b: np.ndarray, f: np.ndarray) -> None:
 
 def test_it_solves_the_island_on_which_block_pivoting_cycles():
     """274 rows of the landing 200-disc pile (bench.scenes.falling_pile(200), t ~ 0.7 s, its A
-    regularised as the engine does): block pivoting from the engine's guess exchanges rows for
-    settings.SPARSE_ROUNDS factorizations without ending; the primal method ends on a solution,
-    the oracle's to 1e-7 of |b| in A f."""
+    regularised as the engine does), on which block pivoting from the engine's guess (the
+    method used up to session 28) exchanged rows for 25 factorizations without ending: the
+    primal method ends on a solution, the oracle's to 1e-7 of |b| in A f."""
     data = np.load(CYCLING)
     m = len(data["b"])
     A = sp.csr_array((data["data"], data["indices"], data["indptr"]), shape=(m, m))
     b, guess = data["b"], data["guess"]
-    S, envelope, _, bs, js, live, member, _ = _scaled(A.copy(), b, guess)
-    assert not _pivot(S, envelope, bs, js, live, member, np.empty(m))  # the premise
     _check(A.toarray(), b, _solve(A.copy(), b, guess))
 
 
@@ -98,3 +95,77 @@ def test_it_solves_regularised_packed_piles_from_any_start(seed):
     b = J @ rng.normal(scale=0.5, size=J.shape[1]) + gaps
     for guess in (np.zeros(len(b), bool), np.ones(len(b), bool), rng.random(len(b)) < 0.5):
         _check(A, b, _solve(sp.csr_array(A), b, guess))
+
+
+def _cycling_scaled():
+    data = np.load(CYCLING)
+    m = len(data["b"])
+    A = sp.csr_array((data["data"], data["indices"], data["indptr"]), shape=(m, m))
+    return _scaled(A, data["b"], data["guess"])
+
+
+@pytest.mark.parametrize("seed", [4, 5, 6])
+def test_refactoring_from_a_row_on_is_the_whole_factorization(seed):
+    """A set changed from row k on, refactored from k over the last factor, gives the factor of
+    the new set to the bit (a factor row depends only on the rows before it)."""
+    _, envelope, _, _, _, live, _, _ = _cycling_scaled()
+    first, offset, values = envelope
+    m = len(first)
+    rng = np.random.default_rng(seed)
+    before = live & (rng.random(m) < 0.7)
+    after = before.copy()
+    k = int(rng.integers(1, m - 1))
+    after[k:] = live[k:] & (rng.random(m - k) < 0.7)
+    after[k] = not before[k] and live[k]  # row k itself changes
+    L, kept = np.empty(values.size), np.empty(m, bool)
+    L_new, kept_new = np.empty(values.size), np.empty(m, bool)
+    env.factor(first, offset, values, before, settings.LCP_DEPENDENT, L, kept)
+    env.refactor(first, offset, values, after, settings.LCP_DEPENDENT, L, kept, k)
+    env.factor(first, offset, values, after, settings.LCP_DEPENDENT, L_new, kept_new)
+    assert np.array_equal(L, L_new) and np.array_equal(kept, kept_new)
+
+
+def _q(S, b, f):
+    return 0.5 * f @ (S @ f) + b @ f
+
+
+@pytest.mark.parametrize("seed", [7, 8, 9])
+def test_the_projected_search_stops_at_the_first_minimiser_on_its_path(seed):
+    """From a random feasible f towards the minimiser y of q over its free rows (with negative
+    forces), the search ends where q along
+    max(f + t (y - f), 0) stops falling: q there is the least on the path up to it and at most
+    q(f), and a grid of 20,001 points on the path (evaluated apart, with S as a dense matrix)
+    finds q's first rise within a grid step of it; the rows it freed are exactly 0."""
+    (indptr, indices, data), _, _, b, _, live, _, _ = _cycling_scaled()
+    m = len(b)
+    S = sp.csr_array((data, indices, indptr), shape=(m, m)).toarray()
+    rng = np.random.default_rng(seed)
+    f = np.where(live & (rng.random(m) < 0.6), rng.uniform(0.0, 1.0, m), 0.0)
+    free = f > 0.0
+    y = np.zeros(m)
+    y[free] = np.linalg.solve(S[np.ix_(free, free)], -b[free])  # as the method: q's minimiser
+    p = y - f
+    breaks, rows = np.empty(m), np.empty(m, np.int64)
+    negative = np.flatnonzero(y < 0.0)
+    breaks[: len(negative)], rows[: len(negative)] = (
+        f[negative] / (f[negative] - y[negative]),
+        negative,
+    )
+    moved = f.copy()
+    t = _projected_search(
+        (indptr, indices, data), b, moved, p.copy(), breaks, rows, len(negative), np.empty(m),
+        np.empty(m),
+    )  # fmt: skip
+    grid = np.linspace(0.0, 1.0, 20_001)
+    path = [_q(S, b, np.maximum(f + s * p, 0.0)) for s in grid]
+    rise = next((i for i in range(len(grid) - 1) if path[i + 1] > path[i]), len(grid) - 1)
+    assert abs(t - grid[rise]) <= 1.0 / 20_000
+    frozen = negative[f[negative] / (f[negative] - y[negative]) <= t]
+    assert t > 0.0 and len(frozen) > 0  # (the case the test is about: rows freed on the way)
+    assert np.allclose(moved, np.maximum(f + t * p, 0.0), rtol=0.0, atol=1e-14)
+    q_end = _q(S, b, moved)
+    assert q_end <= _q(S, b, f) and q_end <= min(path[: rise + 1]) + 1e-12 * abs(q_end)
+    assert np.all(moved[frozen] == 0.0)
+    assert np.array_equal(
+        np.flatnonzero((moved == 0.0) & (f > 0.0)), np.sort(frozen[f[frozen] > 0])
+    )

@@ -39,19 +39,21 @@ from runtime.solve.lcp_sparse import _held, _set_up, _tear_down
 
 
 def solve_impulses(
-    body1, body2, jacobian, b, guess, inverse_mass, fixed
+    body1, body2, jacobian, b, guess, inverse_mass, fixed, start=None
 ) -> tuple[np.ndarray, np.ndarray]:
     """(p, clamped) for m contacts between body1 and body2 (Jacobian rows (m, 6), b (m,)),
-    island by island, each warm-started from ``guess`` (the rows clamped at the last solve);
-    clamped: the rows held at A p + b = 0, the next guess. ``inverse_mass`` (n, 3) is 0 for
-    fixed bodies. Raises ContactSolverError for an island without solution."""
+    island by island, each warm-started from ``guess`` (the rows clamped at the last solve) and,
+    from settings.SPARSE_WARM contacts on, from ``start`` (m,) (impulses >= 0 to start from, the
+    last step's; none: 0); clamped: the rows held at A p + b = 0, the next guess.
+    ``inverse_mass`` (n, 3) is 0 for fixed bodies. Raises ContactSolverError for an island
+    without solution."""
     m = len(b)
     labels = contact_islands(body_islands(len(fixed), body1, body2, fixed), body1, body2, fixed)
     order, offsets = grouped(labels)
     jac = np.ascontiguousarray(jacobian[order])
     b1, b2, bo = body1[order], body2[order], np.ascontiguousarray(b[order])
     go = np.ascontiguousarray(guess[order])
-    po = np.zeros(m)
+    po = np.zeros(m) if start is None else np.ascontiguousarray(start[order])
     ok = np.zeros(len(offsets) - 1, np.bool_)
     _solve_islands(jac, b1, b2, inverse_mass, fixed, offsets, bo, go, po, ok,
                    settings.IMPULSE_REGULARISATION, settings.DENSE_ISLAND,
@@ -64,6 +66,7 @@ def solve_impulses(
         )
         A = sp.csr_array((data, indices, indptr), shape=(stop - start, stop - start))
         b_g, p_g, guess_g = bo[start:stop], po[start:stop], go[start:stop]
+        p_g[:] = 0.0  # (it held the start)
         if dense_tried or not dense_lcp(
             A.toarray(), b_g.copy(), np.zeros(stop - start, np.bool_), guess_g, p_g
         ):
@@ -153,7 +156,9 @@ def _warm_envelope(jac, body1, body2, inv_mass, fixed, start, stop, b, guess, p,
     )
     if dead.any():
         return False
-    fs = np.empty(K)
+    fs = np.empty(K)  # the start, scaled (p holds it on entry)
+    for r in range(K):
+        fs[r] = p[order[r]] / d[order[r]] if live[r] else 0.0
     if not active_set(S, envelope, bs, live, member, fs):
         return False
     held = _held(S, bs, js, fs, tol, live)

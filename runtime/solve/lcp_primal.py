@@ -6,21 +6,25 @@
 exchanges every violated row at once: it cycles on a packed pile's near-dependent rows -- their
 forces on a trial set are rounding amplified ~1e9 times and their signs decide the exchanges
 (bench/README.md, session 28). This method keeps f feasible and q never rises, so it does not
-cycle. It starts from the minimiser over the guessed set, clipped at 0. Each round minimises q
-over the free set W (one envelope factorization, redone only from the first row whose
-membership changed); if that point y leaves f >= 0, it moves f along the projected path
-max(f + t (y - f), 0) to the path's first minimiser of q, freeing the rows that reach 0; if not,
-it takes y and clamps every row with a < 0. After such a round q falls at once along the next
-path (its slope at t = 0 is sum a_i y_i over the clamped rows, < 0 since y over the larger set
-lowers q), so q falls between any two visits of a minimiser over a set: no set comes back. A
-round that cannot lower q (rounding) ends the method; the dense solver then takes the island.
-Its stopping test is the solver's own (runtime.solve.lcp_envelope.valid): the last point solves
-S_WW f_W = -b_W with a backward-stable factor, so its residuals meet the row tolerances even
-where its forces are ill-determined. Measured on the 657 islands of 129-551 rows of the falling 200-disc pile: 46
-factorizations each on average (the most 306), 2.0 s in all. On session 28's 40 captured islands
-where block pivoting had cycled: 2,732 factorizations, 0.19 s, against 18,333 and 1.47 s for that
-session's form of it (from f = 0, which discarded the guess; one row freed a step; every
-factorization whole; the block halved whenever an added row came straight out).
+cycle. It starts from the given f (the last step's impulses) or the minimiser over the guessed
+set clipped at 0, whichever has the lower q, with the guessed rows and those of f > 0 free.
+Each round minimises q over the free set W (one envelope factorization and substitution, redone
+only from the first row whose membership changed); if that point y leaves f >= 0, it moves f
+along the projected path max(f + t (y - f), 0) to the path's first minimiser of q, freeing the
+rows that reach 0; if not, it takes y and clamps every row with a < 0. After such a round q
+falls at once along the next path (its slope at t = 0 is sum a_i y_i over the clamped rows,
+< 0 since y over the larger set lowers q), so q falls between any two visits of a minimiser
+over a set: no set comes back. A round that neither lowers q nor frees a row (rounding) ends the
+method; the dense solver then takes the island. Its stopping test is the solver's own
+(runtime.solve.lcp_envelope.valid): the last point solves S_WW f_W = -b_W with a backward-stable
+factor, so its residuals meet the row tolerances even where its forces are ill-determined.
+
+Measured (replayed from the guess alone): the 657 islands of 129-551 rows of the falling 200-disc
+pile take 46 factorizations each on average (the most 306); session 28's 40 captured islands,
+where block pivoting had cycled, 2,732 factorizations in 0.19 s against 18,333 in 1.47 s for that
+session's form of this method (from f = 0, which discarded the guess; one row freed a step; every
+factorization whole). With the last step's impulses as a start too, the falling 200-disc pile
+(1 s, side by side) takes 2.27 s against 2.59 s from the guess alone.
 """
 
 from __future__ import annotations
@@ -35,11 +39,11 @@ from runtime.solve import lcp_envelope as env
 @njit
 def active_set(S, envelope, b, live, member, f):
     """Whether the method ends on a valid solution within settings.PRIMAL_FACTORIZATIONS,
-    starting from the rows of ``member`` (f written; ``member`` changed)."""
+    starting from f (>= 0) and the rows of ``member`` (f written; ``member`` changed)."""
     indptr, indices, data = S
     first, offset, values = envelope
     K = b.size
-    y, p, g, Sp = np.empty(K), np.empty(K), np.empty(K), np.empty(K)
+    y, z, p, g, Sp = np.empty(K), np.zeros(K), np.empty(K), np.empty(K), np.empty(K)
     a, tol_a = np.empty(K), np.empty(K)
     L, kept, factored = np.empty(values.size), np.empty(K, np.bool_), np.zeros(K, np.bool_)
     breaks, rows, joint = np.empty(K), np.empty(K, np.int64), np.zeros(K, np.bool_)
@@ -47,12 +51,15 @@ def active_set(S, envelope, b, live, member, f):
     for i in range(K):
         member[i] = member[i] and live[i]
     env.factor(first, offset, values, factored, settings.LCP_DEPENDENT, L, kept)  # of no row
-    _minimiser(first, offset, values, b, member, factored, L, kept, y)  # the start: clipped at 0
+    _minimiser(first, offset, values, b, member, factored, L, kept, z, y)  # the start: clipped at 0
     for i in range(K):
-        f[i] = max(y[i], 0.0)
-        member[i] = f[i] > 0.0
+        y[i] = max(y[i], 0.0)
+    if _q(S, b, f) >= _q(S, b, y):
+        f[:] = y
+    for i in range(K):
+        member[i] = f[i] > 0.0 or member[i]
     for _ in range(settings.PRIMAL_FACTORIZATIONS):
-        _minimiser(first, offset, values, b, member, factored, L, kept, y)
+        _minimiser(first, offset, values, b, member, factored, L, kept, z, y)
         count = 0
         for i in range(K):
             p[i] = y[i] - f[i]
@@ -60,10 +67,13 @@ def active_set(S, envelope, b, live, member, f):
                 breaks[count], rows[count] = f[i] / (f[i] - y[i]), i
                 count += 1
         if count > 0:  # y leaves f >= 0: the projected search, rows that reach 0 freed
-            if _projected_search(S, b, f, p, breaks, rows, count, g, Sp) == 0.0:
-                return False  # no descent (rounding); the caller's dense solver decides
+            moved = _projected_search(S, b, f, p, breaks, rows, count, g, Sp) > 0.0
             for i in range(K):
-                member[i] = kept[i] and f[i] > 0.0
+                now = kept[i] and f[i] > 0.0
+                moved = moved or now != member[i]
+                member[i] = now
+            if not moved:
+                return False  # no descent (rounding); the caller's dense solver decides
             continue
         for i in range(K):
             f[i] = y[i]
@@ -79,19 +89,22 @@ def active_set(S, envelope, b, live, member, f):
 
 
 @njit
-def _minimiser(first, offset, values, b, member, factored, L, kept, y):
+def _minimiser(first, offset, values, b, member, factored, L, kept, z, y):
     """y = the minimiser of q over the rows of ``member`` (0 elsewhere, and at rows the factor
     leaves out as dependent on the rows before them; ``kept`` says which rows it kept). The
-    factor is redone from the first row whose membership changed since the last one
-    (``factored``: its set), so a step that frees a few rows costs part of a factorization."""
+    factor and its forward substitution (z) are redone from the first row whose membership
+    changed since the last call (``factored``: its set), so a step that frees a few rows costs
+    part of a factorization."""
     start = 0
     while start < b.size and member[start] == factored[start]:
         start += 1
     env.refactor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept, start)
     factored[:] = member
-    for i in range(b.size):
+    for i in range(start, b.size):
         y[i] = -b[i] if kept[i] else 0.0
-    env.solve(first, offset, L, y.copy(), y)
+    env.forward(first, offset, L, y, z, start)
+    y[:] = z
+    env.backward(first, offset, L, y)
 
 
 @njit
@@ -141,3 +154,16 @@ def _projected_search(S, b, f, p, breaks, rows, count, g, Sp):
     for i in range(K):
         f[i] = max(f[i] + t * p[i], 0.0)
     return t
+
+
+@njit
+def _q(S, b, f):
+    """q(f) = 1/2 f.S f + b.f."""
+    indptr, indices, data = S
+    total = 0.0
+    for i in range(b.size):
+        s = 0.0
+        for q in range(indptr[i], indptr[i + 1]):
+            s += data[q] * f[indices[q]]
+        total += f[i] * (0.5 * s + b[i])
+    return total

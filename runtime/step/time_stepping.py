@@ -39,7 +39,7 @@ import numpy as np
 
 from runtime import settings
 from runtime.collide import sweep
-from runtime.collide.contact_keys import key_set, member
+from runtime.collide.contact_keys import Guesses, key_set, member
 from runtime.solve.assembly import add_forces
 from runtime.solve.island_impulses import solve_impulses
 from runtime.step.classify import OPEN, RESTING, Frame
@@ -64,6 +64,7 @@ class TimeStepper(Stepper):
         self.tolerance = settings.PROJECTION_TOL * self.touch
         self.reach = np.where(self.fixed, 0.0, scene.contact_tolerance)
         self.clamped = key_set(np.zeros(0, np.int64))  # keys of the rows held at the last solve
+        self.impulses = Guesses(dtype=float)  # key -> the impulse of the last step's solve
 
     def step(
         self, q: np.ndarray, v: np.ndarray, h: float
@@ -98,16 +99,26 @@ class TimeStepper(Stepper):
         )
         bounce = (e > 0.0) & (gap + h * rate <= self.touch) & (rate < -self.resting_speed)
         b[bounce] = (1.0 + e[bounce]) * rate[bounce]  # J v+ >= -e d': Newton's law
-        p, clamped = self._impulse_lcp(contacts, keys, rows.jacobian, b)
-        self.clamped = key_set(keys[clamped])
+        p, clamped = self._impulse_lcp(contacts, keys, rows.jacobian, b, self.impulses.get(keys))
+        self.clamped, self.impulses = key_set(keys[clamped]), Guesses(keys, p, dtype=float)
         return p
 
-    def _impulse_lcp(self, contacts, keys, jacobian, b) -> tuple[np.ndarray, np.ndarray]:
+    def _impulse_lcp(
+        self, contacts, keys, jacobian, b, start=None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """The LCP p >= 0, J W J^T p + b >= 0, complementary, island by island, warm-started
-        from the rows clamped at the last step's impulse solve."""
+        from the rows clamped at the last step's impulse solve and from ``start`` (impulses to
+        start from, the last step's; none for the projection's position LCP)."""
         guess = member(keys, self.clamped)
         return solve_impulses(
-            contacts.body1, contacts.body2, jacobian, b, guess, self.inverse_mass, self.fixed
+            contacts.body1,
+            contacts.body2,
+            jacobian,
+            b,
+            guess,
+            self.inverse_mass,
+            self.fixed,
+            start,
         )
 
     def _moved(self, contacts, jacobian, p) -> np.ndarray:

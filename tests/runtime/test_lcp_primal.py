@@ -40,10 +40,13 @@ def _scaled(A: sp.csr_array, b: np.ndarray, guess: np.ndarray):
     return S, envelope, d, bs, js, live, member, order
 
 
-def _solve(A: sp.csr_array, b: np.ndarray, guess: np.ndarray) -> np.ndarray:
-    """f in the original order and units, asserting that the method ends on a solution."""
+def _solve(
+    A: sp.csr_array, b: np.ndarray, guess: np.ndarray, start: np.ndarray | None = None
+) -> np.ndarray:
+    """f in the original order and units from the guessed set and the start (forces >= 0, in
+    the original order and units; none: 0), asserting that the method ends on a solution."""
     S, envelope, d, bs, _, live, member, order = _scaled(A, b, guess)
-    fs = np.empty(len(b))
+    fs = np.zeros(len(b)) if start is None else np.where(live, start[order] / d[order], 0.0)
     assert active_set(S, envelope, bs, live, member, fs)
     f = np.empty(len(b))
     f[order] = d[order] * fs
@@ -86,7 +89,8 @@ def test_it_solves_the_island_on_which_block_pivoting_cycles():
 def test_it_solves_regularised_packed_piles_from_any_start(seed):
     """A packed pile of 12 x 9 discs (293 rows, statically indeterminate), regularised as the
     engine does (settings.IMPULSE_REGULARISATION of A's diagonal), free velocities and open gaps
-    at random; starting from no row, every row and a random half: a solution every time."""
+    at random; starting from no row, every row and a random half, each from f = 0 and from
+    random forces (the engine starts from the last step's impulses): a solution every time."""
     _, _, J, inverse = packed_pile(12, 9)
     rng = np.random.default_rng(seed)
     A = (J * inverse) @ J.T
@@ -94,7 +98,8 @@ def test_it_solves_regularised_packed_piles_from_any_start(seed):
     gaps = np.where(rng.random(len(A)) < 0.2, rng.uniform(0, 1e-3, len(A)), 0.0)
     b = J @ rng.normal(scale=0.5, size=J.shape[1]) + gaps
     for guess in (np.zeros(len(b), bool), np.ones(len(b), bool), rng.random(len(b)) < 0.5):
-        _check(A, b, _solve(sp.csr_array(A), b, guess))
+        for start in (None, np.where(rng.random(len(b)) < 0.7, rng.uniform(0, 2, len(b)), 0.0)):
+            _check(A, b, _solve(sp.csr_array(A), b, guess, start))
 
 
 def _cycling_scaled():

@@ -111,9 +111,9 @@ def _minimiser(first, offset, values, b, member, factored, L, kept, z, y):
 def _projected_search(S, b, f, p, breaks, rows, count, g, Sp):
     """Move f to the first minimiser of q along the path max(f + t p, 0), t in [0, 1]
     (breaks[:count] at ``rows``: where a force reaches 0 and stops); returns that t. Why not
-    stop at the first
-    breakpoint (the textbook step): on a packed pile that frees one row per factorization;
-    the path frees every row whose force q wants at 0, each breakpoint costing one row of S."""
+    stop at the first breakpoint (the textbook step): on a packed pile that frees one row per
+    factorization; the path frees every row whose force q wants at 0, each breakpoint costing
+    one row of S."""
     indptr, indices, data = S
     K = b.size
     slope, curve = 0.0, 0.0  # dq/dt and d2q/dt2 along the path's current piece

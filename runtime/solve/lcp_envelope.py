@@ -170,25 +170,15 @@ def refactor(first, offset, values, member, dependent, L, kept, start, scales):
 @njit
 def solve(first, offset, L, rhs, x):
     """x = (L L^T)^-1 rhs (rhs must be 0 at rows left out: x is 0 there)."""
-    m = first.size
-    for i in range(m):
-        base, lo = offset[i], first[i]
-        s = rhs[i]
-        for p in range(lo, i):
-            s -= L[base + p - lo] * x[p]
-        x[i] = s / L[base + i - lo]
+    forward(first, offset, L, rhs, x, 0)
     backward(first, offset, L, x)
 
 
 @njit
-def forward(first, offset, L, rhs, z, start, kept):
+def forward(first, offset, L, rhs, z, start):
     """z = L^-1 rhs from row ``start`` on (z before it as the last call left it: row i of z
-    depends on rhs and L up to row i alone, so an unchanged head needs no work); 0 at rows
-    not ``kept`` (rhs must be 0 there)."""
+    depends on rhs and L up to row i alone, so an unchanged head needs no work)."""
     for i in range(start, first.size):
-        if not kept[i]:
-            z[i] = 0.0
-            continue
         base, lo = offset[i], first[i]
         s = rhs[i]
         for p in range(lo, i):

@@ -43,7 +43,7 @@ def active_set(S, envelope, b, live, member, f):
     indptr, indices, data = S
     first, offset, values = envelope
     K = b.size
-    y, z, p, g, Sp = np.empty(K), np.zeros(K), np.empty(K), np.empty(K), np.empty(K)
+    y, z, p, Sp = np.empty(K), np.zeros(K), np.empty(K), np.empty(K)
     a, tol_a = np.empty(K), np.empty(K)
     L, kept, factored = np.empty(values.size), np.empty(K, np.bool_), np.zeros(K, np.bool_)
     scales = np.empty((K, 2))  # of the factor's rows (runtime.solve.lcp_envelope.refactor)
@@ -55,7 +55,7 @@ def active_set(S, envelope, b, live, member, f):
     _minimiser(first, offset, values, b, member, factored, L, kept, scales, z, y)
     for i in range(K):
         y[i] = max(y[i], 0.0)  # the guess's start: its minimiser clipped at 0
-    if _q(S, b, f) >= _q(S, b, y):
+    if _q(S, b, f, a, tol_a) >= _q(S, b, y, a, tol_a):
         f[:] = y
     for i in range(K):
         member[i] = f[i] > 0.0 or member[i]
@@ -68,7 +68,7 @@ def active_set(S, envelope, b, live, member, f):
                 breaks[count], rows[count] = f[i] / (f[i] - y[i]), i
                 count += 1
         if count > 0:  # y leaves f >= 0: the projected search, rows that reach 0 freed
-            moved = _projected_search(S, b, f, p, breaks, rows, count, g, Sp) > 0.0
+            moved = _projected_search(S, b, f, p, breaks, rows, count, Sp) > 0.0
             for i in range(K):
                 now = kept[i] and f[i] > 0.0
                 moved = moved or now != member[i]
@@ -103,13 +103,13 @@ def _minimiser(first, offset, values, b, member, factored, L, kept, scales, z, y
     factored[:] = member
     for i in range(start, b.size):
         y[i] = -b[i] if kept[i] else 0.0
-    env.forward(first, offset, L, y, z, start, kept)
+    env.forward(first, offset, L, y, z, start)
     y[:] = z
     env.backward(first, offset, L, y)
 
 
 @njit
-def _projected_search(S, b, f, p, breaks, rows, count, g, Sp):
+def _projected_search(S, b, f, p, breaks, rows, count, Sp):
     """Move f to the first minimiser of q along the path max(f + t p, 0), t in [0, 1]
     (breaks[:count] at ``rows``: where a force reaches 0 and stops); returns that t. Why not
     stop at the first breakpoint (the textbook step): on a packed pile that frees one row per
@@ -123,7 +123,7 @@ def _projected_search(S, b, f, p, breaks, rows, count, g, Sp):
         for q in range(indptr[i], indptr[i + 1]):
             s += data[q] * f[indices[q]]
             u += data[q] * p[indices[q]]
-        g[i], Sp[i] = s, u
+        Sp[i] = u
         slope += s * p[i]
         curve += u * p[i]
     order = np.argsort(breaks[:count])
@@ -158,13 +158,10 @@ def _projected_search(S, b, f, p, breaks, rows, count, g, Sp):
 
 
 @njit
-def _q(S, b, f):
-    """q(f) = 1/2 f.S f + b.f."""
-    indptr, indices, data = S
+def _q(S, b, f, a, tol_a):
+    """q(f) = 1/2 f.S f + b.f = 1/2 f.(a + b), a = S f + b (``a`` and ``tol_a`` overwritten)."""
+    env.residual(S[0], S[1], S[2], b, f, 0.0, a, tol_a)
     total = 0.0
     for i in range(b.size):
-        s = 0.0
-        for q in range(indptr[i], indptr[i + 1]):
-            s += data[q] * f[indices[q]]
-        total += f[i] * (0.5 * s + b[i])
-    return total
+        total += f[i] * (a[i] + b[i])
+    return 0.5 * total

@@ -159,9 +159,8 @@ def test_the_projected_search_stops_at_the_first_minimiser_on_its_path(seed):
     )
     moved = f.copy()
     t = _projected_search(
-        (indptr, indices, data), b, moved, p.copy(), breaks, rows, len(negative), np.empty(m),
-        np.empty(m),
-    )  # fmt: skip
+        (indptr, indices, data), b, moved, p.copy(), breaks, rows, len(negative), np.empty(m)
+    )
     grid = np.linspace(0.0, 1.0, 20_001)
     path = [_q(S, b, np.maximum(f + s * p, 0.0)) for s in grid]
     rise = next((i for i in range(len(grid) - 1) if path[i + 1] > path[i]), len(grid) - 1)

@@ -63,5 +63,5 @@ def grouped(labels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if labels.size == 0:
         return order, np.zeros(1, np.int64)
     sorted_labels = labels[order]
-    starts = np.flatnonzero(np.r_[True, sorted_labels[1:] != sorted_labels[:-1]])
-    return order, np.r_[starts, labels.size].astype(np.int64)
+    offsets = np.flatnonzero(sorted_labels[1:] != sorted_labels[:-1]) + 1
+    return order, np.concatenate(([0], offsets, [labels.size])).astype(np.int64)

@@ -86,9 +86,10 @@ class RowEvaluator:
         self.fixed = np.asarray(fixed, dtype=bool)
 
     def _groups(self, contacts: Contacts) -> list[tuple[ModuleType, np.ndarray]]:
-        present = np.unique(contacts.case)
-        if len(present) == 1:
-            return [(self._module(int(present[0])), np.arange(len(contacts)))]
+        case = contacts.case
+        if len(case) and case.min() == case.max():  # one case (a pile of discs): no np.unique
+            return [(self._module(int(case[0])), np.arange(len(contacts)))]
+        present = np.unique(case)
         return [(self._module(int(c)), np.flatnonzero(contacts.case == c)) for c in present]
 
     def _module(self, case: int) -> ModuleType:

@@ -23,8 +23,9 @@ A step of length h, each stage a function of arrays:
                           b = (1 + e) d', so d'+ >= -e d' (Newton's law, applied at the step's
                           start: the bounce comes early by at most the gap, |d'| h)
 4. integrate              v+ = vf + W J^T p,  q+ = q + h v+   (semi-implicit Euler)
-5. project                while a contact at q+ overlaps deeper than the tolerance: the smallest
-                          move in the kinetic-energy metric that opens the linearised gaps,
+5. project                while a contact at q+ overlaps deeper than the tolerance (the step's
+                          contacts checked first: enough when no body outran its margin): the
+                          smallest move in the kinetic-energy metric that opens the linearised gaps,
                           dq = W J^T mu with A mu + d >= 0, mu >= 0 complementary (Newton:
                           quadratic; velocities untouched)
 
@@ -79,7 +80,8 @@ class TimeStepper(Stepper):
         p = self._impulses(contacts, keys, rows, h)
         after = free + self._moved(contacts, rows.jacobian, p)
         self.evaluations += 1
-        end = self._project(q + h * after, after)
+        moved = q + h * after
+        end = moved if self._clear(contacts, q, moved, margin) else self._project(moved, after)
         loss = self.bodies.kinetic(free) - self.bodies.kinetic(after)
         modes = np.where(p > 0.0, RESTING, OPEN)
         frame = Frame(contacts, keys, rows, modes, after, margin, p, loss)
@@ -126,6 +128,17 @@ class TimeStepper(Stepper):
         change = np.zeros((self.n, 3))
         add_forces(jacobian, contacts.body1, contacts.body2, self.inverse_mass, p, change)
         return change
+
+    def _clear(self, contacts, q, moved, margin) -> bool:
+        """Stage 5's check, from the step's own contacts: none overlaps at ``moved`` deeper
+        than the tolerance. Enough when no body moved farther than its margin: the step's
+        contacts then hold every feature pair that can meet (runtime.collide.sweep), so the
+        contact finder's second pass (~8 % of the falling 200-disc pile's step) is not needed.
+        Not: a body an impulse sent farther, or ovals (their contacts' geometry is of the poses
+        they were found at); and any overlap here is judged by :meth:`_project`."""
+        if self.collision.finder.has_ovals or sweep.outran(q, moved, self.radii, margin):
+            return False
+        return not len(contacts) or self.evaluator.gaps(contacts, moved).min() >= -self.tolerance
 
     def _project(self, q, v) -> np.ndarray:
         """Stage 5: q with every overlap deeper than the tolerance projected out."""

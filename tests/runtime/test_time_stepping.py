@@ -178,3 +178,28 @@ def test_what_it_does_not_model_is_refused_by_name(change, named):
     }  # fmt: skip
     with pytest.raises(ValueError, match=named):
         runtime.World(scene_from_dict(data))
+
+
+def test_a_disc_knocked_farther_than_its_margin_does_not_end_in_the_wall():
+    """A 100 kg disc at 20 m/s pushes a 1 kg disc resting 15 mm from a wall, without gravity:
+    the light disc's margin is 0 (it rests at the step's start), so the wall is not among that
+    step's contacts, and the push moves it ~20 mm, into the wall. The overlap check cannot
+    rely on the step's contacts then: the disc ends every step out of the wall and out of the
+    heavy disc (within the projection's tolerance), and against the wall at the end."""
+    wall = {"name": "wall", "fixed": True,
+            "shape": {"type": "wall", "start": [0.115, -1.0], "end": [0.115, 1.0]}}  # fmt: skip
+    heavy = _disc("heavy", -0.3, 0.0, vx=20.0, mass=100.0)
+    world = runtime.World(_scene([wall, heavy, _disc("light", 0.0, 0.0)], gravity=(0.0, 0.0)))
+    a, b = world.index("heavy"), world.index("light")
+    tolerance = settings.PROJECTION_TOL * settings.TOUCH
+    far = []  # the light disc's distance to the wall before each step
+    for _ in range(10):
+        far.append(0.115 - (world.poses[b, 0] + 0.1))
+        world.step(H)
+        gap = 0.115 - (world.poses[b, 0] + 0.1)
+        assert gap >= -tolerance
+        assert world.poses[b, 0] - world.poses[a, 0] >= 0.2 - tolerance
+        if gap <= 1e-12:
+            break
+    assert far[-1] > 0.01  # it reached the wall from 1 cm or more in one step
+    assert abs(gap) <= tolerance

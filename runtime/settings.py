@@ -262,6 +262,11 @@ SPARSE_WARM = 24  # contacts: a time step's islands from this size are solved by
 PRIMAL_FACTORIZATIONS = 3000  # the primal active-set method's limit (runtime.solve.lcp_primal)
 # before the dense solver takes over (measured: the 657 islands of 129-551 rows of the falling
 # 200-disc pile took 46 factorizations each on average, the most 306)
+PRIMAL_UPDATES = 16  # rows: a round of the primal method that only frees rows, up to this many,
+# takes them out of the factor by rank-one updates (O(envelope) each) instead of refactoring
+# (O(envelope x bandwidth)); measured on the falling 200-disc pile's islands (replayed): 2, 4,
+# 16 or no limit alike (0.74-0.75 of the time refactoring took); the limit keeps a round that
+# frees many rows from paying an update each.
 PROJECTION_TOL = 0.1  # relative to the touch gap (TOUCH, 1e-9 m, or the scene's contact
 # tolerance if smaller): a time step ends with no overlap deeper than this (1e-10 m; issue #12 asks
 # <= 1e-9 m); deeper ones are projected out (Newton on the gaps, each round an LCP) over the

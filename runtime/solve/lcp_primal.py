@@ -8,18 +8,17 @@ forces on a trial set are rounding amplified ~1e9 times and their signs decide t
 (bench/README.md, session 28). This method keeps f feasible and q never rises, so it does not
 cycle. It starts from the given f (the last step's impulses) or the minimiser over the guessed
 set clipped at 0, whichever has the lower q, with the guessed rows and those of f > 0 free.
-Each round minimises q over the free set W (one envelope factorization and substitution, redone
-only from the first row whose membership changed); if that point y leaves f >= 0, it moves f
+Each round minimises q over the free set W (a factor of W's rows alone, packed in the envelope
+order: rows that left W since the last round are taken out of it by rank-one updates, else it is
+redone from the first row whose membership changed); if that point y leaves f >= 0, it moves f
 along the projected path max(f + t (y - f), 0) to the path's first minimiser of q, freeing the
 rows that reach 0; if not, it takes y and clamps every row with a < 0. After such a round q
 falls at once along the next path (its slope at t = 0 is sum a_i y_i over the clamped rows,
 < 0 since y over the larger set lowers q), so q falls between any two visits of a minimiser
-over a set: no set comes back. A round that neither lowers q nor frees a row (rounding: on
-near-dependent rows the minimiser's direction can fail to descend by a rounding error) drops the
-rows whose minimiser force is negative, f kept; a second such round in a row ends the method and
-the dense solver takes the island. (Measured: one island of ~650 above 128 rows of the falling
-200-disc pile stalled so, and its dense solve cost 0.09 s, 4 % of the pile's second; dropping the
-rows, it ends valid 5 rounds later.) Its stopping test is the solver's own
+over a set: no set comes back. A round that neither lowers q nor frees a row (rounding) ends the
+method; the dense solver then takes the island (none of 3,280 islands of 24 rows and more of four
+falling 200-disc piles, replayed; before the updates below, one of ~650 did, its dense solve 0.09
+s, 4 % of that pile's second). Its stopping test is the solver's own
 (runtime.solve.lcp_envelope.valid): the last point solves S_WW f_W = -b_W with a backward-stable
 factor, so its residuals meet the row tolerances even where its forces are ill-determined.
 
@@ -28,7 +27,10 @@ pile take 46 factorizations each on average (the most 306); session 28's 40 capt
 where block pivoting had cycled, 2,732 factorizations in 0.19 s against 18,333 in 1.47 s for that
 session's form of this method (from f = 0, which discarded the guess; one row freed a step; every
 factorization whole). With the last step's impulses as a start too, the falling 200-disc pile
-(1 s, side by side) takes 2.27 s against 2.59 s from the guess alone.
+(1 s, side by side) takes 2.27 s against 2.59 s from the guess alone. The updates for rounds
+that only free rows (most rounds), instead of refactoring: the pile's islands of 24 rows and more
+(820, captured with their starts, replayed) 1.27 s against 1.75 s, the same solutions to 9e-10 of
+|b| in A f (rounding: the factor's own rounding moves them by 4e-10).
 """
 
 from __future__ import annotations
@@ -69,7 +71,6 @@ def active_set(S, envelope, b, live, member, f):
         f[:] = y
     for i in range(K):
         member[i] = f[i] > 0.0 or member[i]
-    stalled = False  # the last round neither moved f nor changed the set
     for _ in range(settings.PRIMAL_FACTORIZATIONS):
         _minimiser(S, b, member, factored, packed, L, scales, work, kept, y)
         count = 0
@@ -84,14 +85,9 @@ def active_set(S, envelope, b, live, member, f):
                 now = kept[i] and f[i] > 0.0
                 moved = moved or now != member[i]
                 member[i] = now
-            if not moved:  # no descent: rounding, near-dependent rows (see the docstring)
-                if stalled:
-                    return False  # the caller's dense solver decides
-                for k in range(count):
-                    member[rows[k]] = False
-            stalled = not moved
+            if not moved:
+                return False  # no descent (rounding); the caller's dense solver decides
             continue
-        stalled = False
         for i in range(K):
             f[i] = y[i]
             member[i] = kept[i]
@@ -109,19 +105,36 @@ def active_set(S, envelope, b, live, member, f):
 def _minimiser(S, b, member, factored, packed, L, scales, work, kept, y):
     """y = the minimiser of q over the rows of ``member`` (0 elsewhere, and at rows the factor
     leaves out as dependent on the rows before them; ``kept`` says which rows it kept). The
-    factor (of the member rows alone, packed: runtime.solve.lcp_envelope.refactor_members) and
-    its forward substitution (z) are redone from the first row whose membership changed since
-    the last call (``factored``: its set), so a step that frees a few rows costs part of a
-    factorization."""
+    factor is of the member rows alone, packed (runtime.solve.lcp_envelope.refactor_members).
+    If rows only left the set since the last call (``factored``: its set), each is taken out of
+    the factor by a rank-one update (runtime.solve.lcp_envelope.remove_member), up to
+    settings.PRIMAL_UPDATES of them; else the factor is redone from the first row whose
+    membership changed. Either way the forward substitution (z) is redone from the first
+    packed row that changed."""
     pos, rows, first, offset = packed
     held, x, z = work  # by packed row: kept, the right-hand side and solution, z = L^-1 x
+    K = b.size
     start = 0
-    while start < b.size and member[start] == factored[start]:
+    while start < K and member[start] == factored[start]:
         start += 1
-    w0 = pos[start]
-    n = env.refactor_members(
-        S[0], S[1], S[2], member, settings.LCP_DEPENDENT, start, packed, L, held, scales
-    )
+    left, joined = 0, False
+    for i in range(start, K):
+        joined = joined or (member[i] and not factored[i])
+        left += factored[i] and not member[i]
+    n = pos[K]  # (the packed rows: the members of the last factorization)
+    if not joined and left <= settings.PRIMAL_UPDATES:
+        w0 = n
+        rotations = np.empty((n, 2))
+        for i in range(start, K):
+            if factored[i] and not member[i]:
+                w0 = min(w0, pos[i])
+                if held[pos[i]]:
+                    env.remove_member(first, offset, L, held, scales, n, pos[i], rotations)
+    else:
+        w0 = pos[start]
+        n = env.refactor_members(
+            S[0], S[1], S[2], member, settings.LCP_DEPENDENT, start, packed, L, held, scales
+        )
     factored[:] = member
     for w in range(w0, n):
         x[w] = -b[rows[w]] if held[w] else 0.0

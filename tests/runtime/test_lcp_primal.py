@@ -86,12 +86,11 @@ def test_it_solves_the_island_on_which_block_pivoting_cycles():
     _check(A.toarray(), b, _solve(A.copy(), b, guess))
 
 
-def test_it_solves_the_island_where_its_direction_stopped_descending():
+def test_it_solves_the_island_where_it_once_stopped_descending():
     """501 rows of the falling 200-disc pile (step 710, its A regularised as the engine does),
-    from the engine's start (the last step's impulses): five rounds in, the minimiser's
-    direction does not descend (rounding on near-dependent rows) and the method used to give
-    the island up to the dense solver (0.09 s); dropping the rows whose minimiser force is
-    negative, it ends on the oracle's solution."""
+    from the engine's start (the last step's impulses), on which the method with the factor
+    redone every round stopped descending after five rounds (rounding on near-dependent rows)
+    and gave the island up to the dense solver: it ends on the oracle's solution."""
     data = np.load(STALLED)
     m = len(data["b"])
     A = sp.csr_array((data["data"], data["indices"], data["indptr"]), shape=(m, m))
@@ -169,6 +168,37 @@ def test_the_packed_factor_refactored_from_a_row_on_is_the_whole_factorization(s
     assert np.array_equal(kept[:n], kept_env[members])
     assert np.array_equal(dense, full[np.ix_(members, members)])
     assert np.all(full[np.ix_(members, np.flatnonzero(~after))] == 0.0)
+
+
+@pytest.mark.parametrize("seed", [10, 11, 12])
+def test_rows_taken_out_of_the_packed_factor_by_updates_leave_the_factor_of_the_rest(seed):
+    """Rows leaving the member set one after another, each taken out of the packed factor by a
+    rank-one update (remove_member): the factor then reproduces S over the remaining members to
+    rounding (lower triangular with a positive diagonal: their Cholesky factor), and each row
+    taken out is an identity row with a zero column."""
+    S, envelope, _, _, _, live, _, _ = _cycling_scaled()
+    m = len(live)
+    rng = np.random.default_rng(seed)
+    member = live & (rng.random(m) < 0.8)
+    packed = tuple(np.zeros(m + 1, np.int64) for _ in range(4))
+    L, kept, scales = np.zeros(envelope[2].size), np.zeros(m, bool), np.empty((m, 2))
+    n = env.refactor_members(*S, member, settings.LCP_DEPENDENT, 0, packed, L, kept, scales)
+    pos, rows, first, offset = packed
+    assert kept[:n].all()  # (no row of this set is left out as dependent)
+    out = np.sort(rng.choice(n, 6, replace=False))
+    rotations = np.empty((n, 2))
+    for k in out:
+        env.remove_member(first, offset, L, kept, scales, n, k, rotations)
+    factor = np.zeros((n, n))
+    for w in range(n):
+        factor[w, first[w] : w + 1] = L[offset[w] : offset[w + 1]]
+    dense = sp.csr_array((S[2], S[1], S[0]), shape=(m, m)).toarray()[np.ix_(rows[:n], rows[:n])]
+    rest = np.setdiff1d(np.arange(n), out)
+    product = factor @ factor.T
+    assert np.abs(product[np.ix_(rest, rest)] - dense[np.ix_(rest, rest)]).max() <= 1e-14
+    assert np.all(np.diag(factor)[rest] > 0.0) and not kept[out].any()
+    assert np.array_equal(factor[out], np.eye(n)[out]) and np.all(factor[:, out][rest] == 0.0)
+    assert np.allclose(scales[rest, 0], 1.0 / np.diag(factor)[rest], rtol=1e-15, atol=0.0)
 
 
 def _q(S, b, f):
